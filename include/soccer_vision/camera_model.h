@@ -1,0 +1,62 @@
+// Pinhole camera with plumb_bob (OpenCV k1 k2 p1 p2 k3) distortion and a pose in `field`.
+// Pixel coordinates follow OpenCV/ROS: (0, 0) is the centre of the top-left pixel.
+#pragma once
+
+#include <array>
+#include <optional>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace soccer_vision {
+
+struct FieldGeometry;
+
+struct CameraIntrinsics {
+  int width = 1280;
+  int height = 1024;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  std::array<double, 5> dist{};  // k1, k2, p1, p2, k3
+};
+
+class CameraModel {
+ public:
+  CameraModel() = default;
+  // field_T_camera: pose of the optical frame (z forward, x right, y down) in `field`.
+  CameraModel(const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& field_T_camera);
+
+  // The built-in camera `index` (0: over x < 0, 1: over x > 0) of DESIGN.md: ~4 m above
+  // the carpet, looking straight down, image u along field y, covering its half plus
+  // the overlap and the boundary, with moderate barrel distortion.
+  static CameraModel defaultCamera(const FieldGeometry& field, int index, int width = 1280,
+                                   int height = 1024);
+
+  const CameraIntrinsics& intrinsics() const { return k_; }
+  const Eigen::Isometry3d& fieldTCamera() const { return field_T_camera_; }
+  int width() const { return k_.width; }
+  int height() const { return k_.height; }
+  // Same camera at another resolution (intrinsics scaled, pose and distortion kept).
+  CameraModel scaled(int width, int height) const;
+
+  // Normalised undistorted (x/z, y/z) -> normalised distorted.
+  Eigen::Vector2d distortNormalized(const Eigen::Vector2d& xy) const;
+  // Inverse of distortNormalized (iterative; exact to ~1e-12 within the image).
+  Eigen::Vector2d undistortNormalized(const Eigen::Vector2d& xy_distorted) const;
+
+  // Field point -> raw (distorted) pixel; nullopt when behind the camera.
+  std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p_field) const;
+  // Field point -> pixel of the ideal (undistorted) pinhole camera.
+  std::optional<Eigen::Vector2d> projectUndistorted(const Eigen::Vector3d& p_field) const;
+  // Raw pixel -> unit ray direction in `field` (origin: cameraCentre()).
+  Eigen::Vector3d pixelRay(const Eigen::Vector2d& pixel) const;
+  // Raw pixel -> point on the horizontal plane z = plane_z; nullopt if the ray misses it.
+  std::optional<Eigen::Vector3d> pixelToField(const Eigen::Vector2d& pixel, double plane_z) const;
+  Eigen::Vector3d cameraCentre() const { return field_T_camera_.translation(); }
+  bool inImage(const Eigen::Vector2d& pixel, double margin = 0.0) const;
+
+ private:
+  CameraIntrinsics k_;
+  Eigen::Isometry3d field_T_camera_ = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace soccer_vision

@@ -1,0 +1,53 @@
+# Shared by scripts/demo and scripts/test: install what is missing, build the catkin
+# workspace out of tree (.ws/, ignored by git). Sourced, not run.
+
+# Debian's ROS Python modules are only visible to /usr/bin/python3; another python3 first
+# on PATH breaks catkin ("No module named 'ament_package'") and rostest.
+export PATH="/usr/bin:/bin:/usr/sbin:/sbin:$PATH"
+export PYTHONNOUSERSITE=1
+
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+WS="$REPO/.ws"
+
+DEBIAN_PACKAGES=(
+  build-essential cmake catkin ros-base-dev ros-message-generation ros-message-runtime
+  libnodeletlib-dev libnodeletlib-tools python3-nodelet libcv-bridge-dev
+  libimage-transport-dev libcamera-info-manager-dev libcamera-calibration-parsers-dev
+  libtf2-ros-dev libtf2-geometry-msgs-dev libdynamic-reconfigure-config-init-mutex-dev
+  python3-dynamic-reconfigure libdiagnostic-updater-dev libdiagnostic-msgs-dev
+  libsensor-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev python3-sensor-msgs
+  python3-geometry-msgs python3-visualization-msgs python3-diagnostic-msgs python3-std-msgs
+  ros-std-msgs librosbag-dev python3-rosbag librostest-dev python3-rostest
+  python3-roslaunch python3-rostopic rosbash rosout libopencv-dev libeigen3-dev
+  libyaml-cpp-dev nlohmann-json3-dev libgtest-dev rviz xvfb xauth
+)
+
+install_missing() {
+  local missing=()
+  local pkg
+  for pkg in "${DEBIAN_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "== installing ${#missing[@]} Debian package(s): ${missing[*]}"
+  local sudo=()
+  [ "$(id -u)" -ne 0 ] && sudo=(sudo)
+  "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+  "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+# Builds the package; extra make targets (e.g. "tests") may be given.
+build_workspace() {
+  mkdir -p "$WS/src"
+  ln -sfn "$REPO" "$WS/src/soccer_vision"
+  (cd "$WS" && catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON -j2 "$@" \
+      > "$WS/build.log" 2>&1) || { tail -n 60 "$WS/build.log"; echo "== build failed (full log: $WS/build.log)"; return 1; }
+  grep -E "warning:" "$WS/build.log" | sort -u | head -n 20 || true
+}
+
+source_workspace() {
+  set +u
+  # shellcheck disable=SC1091
+  source "$WS/devel/setup.bash"
+  set -u
+}

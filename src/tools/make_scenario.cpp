@@ -1,0 +1,245 @@
+// make_scenario: renders a scenario preset into a rosbag (image_raw, camera_info and the
+// ground-truth topics of each camera, with capture stamps) and writes the DESIGN.md
+// exchange files next to it: truth.jsonl, samples.yaml (colour samples on the first
+// frame), field_points.yaml, plus camera_info.yaml and first_frame.png for calibration.
+//
+//   rosrun soccer_vision make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag
+//       [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]
+//       [--compression lz4|bz2|none]
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <camera_calibration_parsers/parse.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <ros/package.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/Image.h>
+
+#include "soccer_vision/calibration_samples.h"
+#include "soccer_vision/exchange_formats.h"
+#include "soccer_vision/field_renderer.h"
+#include "soccer_vision/game_simulator.h"
+#include "soccer_vision/ros/conversions.h"
+
+namespace sv = soccer_vision;
+
+namespace {
+
+struct Options {
+  std::string preset;
+  int frames = 0;
+  std::string out;
+  std::vector<int> cameras = {0};
+  int width = 0, height = 0;
+  long long seed = -1;
+  double start = 1700000000.0;
+  std::string compression = "lz4";
+};
+
+void usage() {
+  std::cerr << "usage: make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag\n"
+               "         [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]\n"
+               "         [--compression lz4|bz2|none]\n"
+               "presets: config/scenarios/*.yaml of the soccer_vision package\n";
+}
+
+Options parseArgs(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--preset") o.preset = value();
+    else if (a == "--frames") o.frames = std::stoi(value());
+    else if (a == "--out") o.out = value();
+    else if (a == "--width") o.width = std::stoi(value());
+    else if (a == "--height") o.height = std::stoi(value());
+    else if (a == "--seed") o.seed = std::stoll(value());
+    else if (a == "--start") o.start = std::stod(value());
+    else if (a == "--compression") o.compression = value();
+    else if (a == "--cameras") {
+      o.cameras.clear();
+      std::stringstream ss(value());
+      for (std::string c; std::getline(ss, c, ',');) o.cameras.push_back(std::stoi(c));
+    } else if (a == "--help" || a == "-h") {
+      usage();
+      std::exit(0);
+    } else {
+      throw std::runtime_error("unknown argument '" + a + "'");
+    }
+  }
+  if (o.preset.empty() || o.out.empty() || o.frames <= 0) {
+    throw std::runtime_error("--preset, --out and a positive --frames are required");
+  }
+  for (int c : o.cameras) {
+    if (c != 0 && c != 1) throw std::runtime_error("--cameras takes 0 and/or 1");
+  }
+  if (o.compression != "lz4" && o.compression != "bz2" && o.compression != "none") {
+    throw std::runtime_error("--compression must be lz4, bz2 or none");
+  }
+  return o;
+}
+
+// A preset name resolves to the package's config/scenarios/NAME.yaml; anything with a
+// slash or a .yaml suffix is a path.
+std::string presetPath(const std::string& preset) {
+  if (preset.find('/') != std::string::npos || preset.size() > 5 && preset.substr(preset.size() - 5) == ".yaml") {
+    return preset;
+  }
+  const std::string pkg = ros::package::getPath("soccer_vision");
+  if (pkg.empty()) throw std::runtime_error("cannot find the soccer_vision package to look up preset '" + preset + "'");
+  return pkg + "/config/scenarios/" + preset + ".yaml";
+}
+
+std::string directoryOf(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+// Camera-specific files: plain name for the first camera, "_camera_<n>" for every camera.
+std::vector<std::string> cameraFileNames(const std::string& dir, const std::string& stem,
+                                         const std::string& ext, int camera, bool first) {
+  std::vector<std::string> names = {dir + "/" + stem + "_camera_" + std::to_string(camera) + ext};
+  if (first) names.push_back(dir + "/" + stem + ext);
+  return names;
+}
+
+struct CameraChannel {
+  int id;
+  std::string ns;
+  std::unique_ptr<sv::FieldRenderer> renderer;
+  sensor_msgs::CameraInfo info;
+};
+
+int run(const Options& o) {
+  sv::ScenarioConfig scenario = sv::loadScenario(presetPath(o.preset));
+  if (o.width > 0) scenario.width = o.width;
+  if (o.height > 0) scenario.height = o.height;
+  if (o.seed >= 0) scenario.seed = static_cast<std::uint64_t>(o.seed);
+  const sv::FieldGeometry field;
+  const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
+  sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+
+  std::vector<CameraChannel> channels;
+  for (int id : o.cameras) {
+    const auto camera = sv::CameraModel::defaultCamera(field, id, scenario.width, scenario.height);
+    const std::string frame = "camera_" + std::to_string(id) + "_optical";
+    channels.push_back({id, "/camera_" + std::to_string(id),
+                        std::make_unique<sv::FieldRenderer>(camera, field, patterns, scenario),
+                        sv::toCameraInfo(camera, frame)});
+  }
+
+  rosbag::Bag bag(o.out, rosbag::bagmode::Write);
+  bag.setCompression(o.compression == "lz4"   ? rosbag::compression::LZ4
+                     : o.compression == "bz2" ? rosbag::compression::BZ2
+                                              : rosbag::compression::Uncompressed);
+  const std::string dir = directoryOf(o.out);
+  std::vector<sv::FrameRecord> truth;
+  const double dt = 1.0 / scenario.fps;
+
+  for (int i = 0; i < o.frames; ++i) {
+    const sv::SceneState& scene = sim.state();
+    const ros::Time stamp(o.start + i * dt);
+    sv::FrameRecord record;
+    for (auto& ch : channels) {
+      const std::string frame_id = ch.info.header.frame_id;
+      sensor_msgs::Image img;
+      img.header.stamp = stamp;
+      img.header.frame_id = frame_id;
+      img.header.seq = i;
+      img.width = scenario.width;
+      img.height = scenario.height;
+      img.encoding = ch.renderer->encoding();
+      const bool bayer = img.encoding.rfind("bayer", 0) == 0;
+      img.step = scenario.width * (bayer ? 1 : 3);
+      img.data.resize(static_cast<std::size_t>(img.step) * img.height);
+      sv::RenderedFrame rendered;
+      rendered.image = cv::Mat(img.height, img.width, bayer ? CV_8UC1 : CV_8UC3, img.data.data(), img.step);
+      ch.renderer->render(scene, i, rendered);
+
+      sensor_msgs::CameraInfo info = ch.info;
+      info.header = img.header;
+      const auto robots = sv::toRobotPoseArray(scene, stamp, ch.id, [&](const sv::RobotState& r) {
+        return ch.renderer->robotVisible(r);
+      });
+      const auto balls = sv::toBallPoseArray(scene, stamp, ch.id, [&](const sv::BallState& b) {
+        return ch.renderer->ballVisible(b);
+      });
+      bag.write(ch.ns + "/image_raw", stamp, img);
+      bag.write(ch.ns + "/camera_info", stamp, info);
+      bag.write(ch.ns + "/ground_truth/robots", stamp, robots);
+      bag.write(ch.ns + "/ground_truth/balls", stamp, balls);
+      if (!balls.balls.empty()) bag.write(ch.ns + "/ground_truth/ball", stamp, balls.balls.front());
+
+      // One truth record per instant: an object is visible if any camera sees it whole.
+      const auto merged = sv::toFrameRecord(robots, balls);
+      if (record.robots.empty() && record.balls.empty()) {
+        record = merged;
+      } else {
+        for (std::size_t k = 0; k < record.robots.size(); ++k) {
+          record.robots[k].visible = *record.robots[k].visible || *merged.robots[k].visible;
+        }
+        for (std::size_t k = 0; k < record.balls.size(); ++k) {
+          record.balls[k].visible = *record.balls[k].visible || *merged.balls[k].visible;
+        }
+      }
+      record.stamp = stamp.toSec();
+
+      if (i == 0) {
+        const bool first = &ch == &channels.front();
+        const auto samples = sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns);
+        const auto points = sv::fieldCorrespondences(ch.renderer->camera(), field);
+        cv::Mat bgr = rendered.image;
+        if (bayer) {
+          // OpenCV names Bayer patterns by the second row: RGGB mosaic -> COLOR_BayerBG2BGR.
+          static const std::map<std::string, int> kDemosaic = {
+              {"bayer_rggb8", cv::COLOR_BayerBG2BGR}, {"bayer_bggr8", cv::COLOR_BayerRG2BGR},
+              {"bayer_gbrg8", cv::COLOR_BayerGR2BGR}, {"bayer_grbg8", cv::COLOR_BayerGB2BGR}};
+          cv::cvtColor(rendered.image, bgr, kDemosaic.at(img.encoding));
+        }
+        for (const auto& f : cameraFileNames(dir, "samples", ".yaml", ch.id, first)) sv::writeTextFile(f, sv::toYaml(samples));
+        for (const auto& f : cameraFileNames(dir, "field_points", ".yaml", ch.id, first)) sv::writeTextFile(f, sv::toYaml(points));
+        for (const auto& f : cameraFileNames(dir, "first_frame", ".png", ch.id, first)) {
+          if (!cv::imwrite(f, bgr)) throw std::runtime_error(f + ": cannot write image");
+        }
+        for (const auto& f : cameraFileNames(dir, "camera_info", ".yaml", ch.id, first)) {
+          if (!camera_calibration_parsers::writeCalibration(f, "camera_" + std::to_string(ch.id), ch.info)) {
+            throw std::runtime_error(f + ": cannot write camera_info");
+          }
+        }
+      }
+    }
+    truth.push_back(record);
+    sim.step(dt);
+  }
+  bag.close();
+  sv::writeJsonLines(dir + "/truth.jsonl", truth);
+
+  std::printf("wrote %s: %d frames x %zu camera(s), %dx%d %s, %.0f fps, preset '%s' (%s pattern, %d+%d robots)\n",
+              o.out.c_str(), o.frames, channels.size(), scenario.width, scenario.height,
+              channels.front().renderer->encoding().c_str(), scenario.fps, scenario.name.c_str(),
+              patterns.name.c_str(), scenario.blue_robots, scenario.yellow_robots);
+  std::printf("and %s/{truth.jsonl, samples.yaml, field_points.yaml, camera_info.yaml, first_frame.png}\n",
+              dir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parseArgs(argc, argv));
+  } catch (const std::exception& e) {
+    std::cerr << "make_scenario: " << e.what() << "\n";
+    usage();
+    return 2;
+  }
+}
