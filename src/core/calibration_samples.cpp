@@ -156,7 +156,7 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
     for (const auto& r : scene.robots) clear = clear && (Eigen::Vector2d(r.x, r.y) - mid).norm() > 0.4;
     const double hl = 0.15, hw = 0.25 * field.line_width;
     std::vector<Eigen::Vector3d> pts;
-    for (const Eigen::Vector2d c : {Eigen::Vector2d(mid - hl * dir - hw * n), Eigen::Vector2d(mid + hl * dir - hw * n),
+    for (const Eigen::Vector2d& c : {Eigen::Vector2d(mid - hl * dir - hw * n), Eigen::Vector2d(mid + hl * dir - hw * n),
                                     Eigen::Vector2d(mid + hl * dir + hw * n), Eigen::Vector2d(mid - hl * dir + hw * n)}) {
       pts.emplace_back(c.x(), c.y(), 0.0);
     }
