@@ -1,0 +1,101 @@
+#include "soccer_vision/frame_source.h"
+
+#include <mutex>
+#include <utility>
+
+#include <opencv2/imgproc.hpp>
+
+#include "soccer_vision/synthetic_source.h"
+
+namespace soccer_vision {
+
+namespace {
+
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string, FrameSourceFactory> factories;
+
+  Registry() {
+    // Built-in back-ends. Real cameras (v4l2, aravis) and files (video, images) add a
+    // line here when they exist.
+    factories["synthetic"] = [] { return std::make_unique<SyntheticSource>(); };
+  }
+};
+
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+}  // namespace
+
+const char* grabStatusName(GrabStatus s) {
+  switch (s) {
+    case GrabStatus::Ok: return "ok";
+    case GrabStatus::Timeout: return "timeout";
+    case GrabStatus::Interrupted: return "interrupted";
+    case GrabStatus::EndOfStream: return "end of stream";
+    case GrabStatus::Error: return "error";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<FrameSource> createFrameSource(const std::string& name, std::string& error) {
+  FrameSourceFactory factory;
+  {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    auto it = r.factories.find(name);
+    if (it != r.factories.end()) factory = it->second;
+  }
+  if (!factory) {
+    std::string known;
+    for (const std::string& n : frameSourceNames()) known += (known.empty() ? "" : ", ") + n;
+    error = "unknown frame source '" + name + "' (known: " + known + ")";
+    return nullptr;
+  }
+  std::unique_ptr<FrameSource> source = factory();
+  if (!source) error = "frame source factory '" + name + "' returned no source";
+  return source;
+}
+
+std::vector<std::string> frameSourceNames() {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  std::vector<std::string> names;
+  for (const auto& kv : r.factories) names.push_back(kv.first);
+  return names;  // std::map: already sorted
+}
+
+void registerFrameSource(const std::string& name, FrameSourceFactory factory) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  r.factories[name] = std::move(factory);
+}
+
+int cvTypeForEncoding(const std::string& e) {
+  if (e == "bgr8" || e == "rgb8") return CV_8UC3;
+  if (e == "bgra8" || e == "rgba8") return CV_8UC4;
+  if (e == "bgr16" || e == "rgb16") return CV_16UC3;
+  if (e == "bgra16" || e == "rgba16") return CV_16UC4;
+  if (e == "mono8" || e == "8UC1") return CV_8UC1;
+  if (e == "mono16" || e == "16UC1") return CV_16UC1;
+  if (e == "yuv422" || e == "uyvy" || e == "yuyv") return CV_8UC2;
+  if (e.rfind("bayer_", 0) == 0) {
+    if (e.size() > 2 && e.compare(e.size() - 2, 2, "16") == 0) return CV_16UC1;
+    if (e.back() == '8') return CV_8UC1;
+  }
+  return -1;
+}
+
+int bayerToBgrCode(const std::string& e) {
+  // OpenCV names a Bayer layout after the second row's 2nd/3rd pixels, so a sensor whose
+  // top-left 2x2 block is R G / G B ("rggb") is OpenCV's BayerBG (as in cv_bridge).
+  if (e == "bayer_rggb8" || e == "bayer_rggb16") return cv::COLOR_BayerBG2BGR;
+  if (e == "bayer_bggr8" || e == "bayer_bggr16") return cv::COLOR_BayerRG2BGR;
+  if (e == "bayer_gbrg8" || e == "bayer_gbrg16") return cv::COLOR_BayerGR2BGR;
+  if (e == "bayer_grbg8" || e == "bayer_grbg16") return cv::COLOR_BayerGB2BGR;
+  return -1;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,273 @@
+// demo_monitor: watches one camera of the running vision system for a while, prints a
+// summary and writes an annotated snapshot. Used by `demo.launch headless:=true`.
+//
+//   demo_monitor [--duration SECONDS] [--snapshot PATH]
+//
+// Parameters (private):
+//   ~camera    string "camera_0"   camera namespace: subscribes <camera>/image_raw,
+//                                   <camera>/camera_info, <camera>/ground_truth/robots and
+//                                   <camera>/ground_truth/balls
+//   ~camera_id int    0            synthetic camera index (CameraModel::defaultCamera) used to
+//                                   project the ground truth onto the snapshot
+//   ~duration  double 10           [s] run time (the --duration option wins); 0 = until Ctrl-C
+//   ~snapshot  string "./soccer_vision_snapshot.png"  annotated PNG of the last frame
+//
+// Summary: frames received, rate [Hz], latency (receipt - capture stamp: mean, p99, max),
+// visible robots/balls per frame from the ground truth, encoding and resolution.
+// Exit status: 0 after a run with frames, 1 when no frame arrived, 2 on bad arguments,
+// 3 when the snapshot could not be written.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <cv_bridge/cv_bridge.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "soccer_vision/BallPoseArray.h"
+#include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/camera_model.h"
+#include "soccer_vision/field_geometry.h"
+#include "soccer_vision/frame_source.h"
+
+namespace sv = soccer_vision;
+
+namespace {
+
+struct Monitor {
+  std::mutex mutex;
+  std::size_t frames = 0;
+  ros::WallTime first_receipt, last_receipt;
+  std::vector<double> latencies;  // [s]
+  sensor_msgs::ImageConstPtr last_image;
+  std::deque<sensor_msgs::ImageConstPtr> recent;  // newest last, for the snapshot
+  std::size_t camera_infos = 0;
+  std::map<ros::Time, soccer_vision::RobotPoseArrayConstPtr> robots;  // recent, by stamp
+  std::map<ros::Time, soccer_vision::BallPoseArrayConstPtr> balls;
+  std::size_t gt_frames = 0, visible_robot_sum = 0, visible_ball_sum = 0;
+
+  void image(const sensor_msgs::ImageConstPtr& msg) {
+    const ros::WallTime now = ros::WallTime::now();
+    const double latency = ros::Time::now().toSec() - msg->header.stamp.toSec();
+    std::lock_guard<std::mutex> lock(mutex);
+    if (frames == 0) first_receipt = now;
+    last_receipt = now;
+    ++frames;
+    latencies.push_back(latency);
+    last_image = msg;
+    recent.push_back(msg);
+    if (recent.size() > 10) recent.pop_front();
+  }
+  void info(const sensor_msgs::CameraInfoConstPtr&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++camera_infos;
+  }
+  void robotArray(const soccer_vision::RobotPoseArrayConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex);
+    robots[msg->header.stamp] = msg;
+    while (robots.size() > 120) robots.erase(robots.begin());
+    ++gt_frames;
+    for (const auto& r : msg->robots) visible_robot_sum += r.visible ? 1 : 0;
+  }
+  void ballArray(const soccer_vision::BallPoseArrayConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex);
+    balls[msg->header.stamp] = msg;
+    while (balls.size() > 120) balls.erase(balls.begin());
+    for (const auto& b : msg->balls) visible_ball_sum += b.visible ? 1 : 0;
+  }
+};
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: demo_monitor [--duration SECONDS] [--snapshot PATH]\n"
+               "  watches <~camera>/image_raw (+ camera_info, ground truth), prints a summary\n"
+               "  and writes an annotated snapshot; exits 1 if no frame arrived.\n");
+}
+
+// Draws the ground truth of one frame onto `bgr` (ground truth projected with the
+// synthetic camera model).
+void annotate(cv::Mat& bgr, const sv::CameraModel& camera,
+              const soccer_vision::RobotPoseArrayConstPtr& robots,
+              const soccer_vision::BallPoseArrayConstPtr& balls) {
+  const double scale = bgr.cols / 1280.0;
+  const int thickness = std::max(1, static_cast<int>(std::lround(2 * scale)));
+  const double robot_height = 0.15, robot_radius = 0.09;
+  if (robots) {
+    for (const auto& r : robots->robots) {
+      const auto c = camera.project(Eigen::Vector3d(r.x, r.y, robot_height));
+      const auto edge = camera.project(Eigen::Vector3d(r.x + robot_radius, r.y, robot_height));
+      const auto head = camera.project(Eigen::Vector3d(
+          r.x + 2 * robot_radius * std::cos(r.theta), r.y + 2 * robot_radius * std::sin(r.theta),
+          robot_height));
+      if (!c || !edge || !head) continue;
+      const cv::Scalar colour = !r.visible ? cv::Scalar(128, 128, 128)
+                                : r.team == soccer_vision::RobotPose::TEAM_BLUE
+                                    ? cv::Scalar(255, 160, 0)
+                                    : cv::Scalar(0, 230, 255);
+      const cv::Point pc(static_cast<int>(std::lround(c->x())), static_cast<int>(std::lround(c->y())));
+      const int radius = std::max(3, static_cast<int>(std::lround((*edge - *c).norm())));
+      cv::circle(bgr, pc, radius, colour, thickness, cv::LINE_AA);
+      cv::line(bgr, pc,
+               cv::Point(static_cast<int>(std::lround(head->x())),
+                         static_cast<int>(std::lround(head->y()))),
+               colour, thickness, cv::LINE_AA);
+      const std::string label =
+          std::string(r.team == soccer_vision::RobotPose::TEAM_BLUE ? "B" : "Y") +
+          std::to_string(r.id);
+      cv::putText(bgr, label, pc + cv::Point(radius + 2, -radius), cv::FONT_HERSHEY_SIMPLEX,
+                  0.6 * std::max(scale, 0.5), colour, thickness, cv::LINE_AA);
+    }
+  }
+  if (balls) {
+    for (const auto& b : balls->balls) {
+      const auto c = camera.project(Eigen::Vector3d(b.x, b.y, b.z));
+      if (!c) continue;
+      const cv::Point pc(static_cast<int>(std::lround(c->x())), static_cast<int>(std::lround(c->y())));
+      const cv::Scalar colour = b.visible ? cv::Scalar(0, 0, 255) : cv::Scalar(128, 128, 128);
+      cv::circle(bgr, pc, std::max(6, static_cast<int>(std::lround(12 * scale))), colour,
+                 thickness, cv::LINE_AA);
+      cv::putText(bgr, "ball", pc + cv::Point(10, -10), cv::FONT_HERSHEY_SIMPLEX,
+                  0.6 * std::max(scale, 0.5), colour, thickness, cv::LINE_AA);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "demo_monitor");  // strips remapping arguments (__name:= ...)
+  double duration = -1;
+  std::string snapshot;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if ((a == "--duration" || a == "--snapshot") && i + 1 < argc) {
+      const std::string v = argv[++i];
+      if (a == "--snapshot") {
+        snapshot = v;
+        continue;
+      }
+      char* end = nullptr;
+      duration = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || duration < 0) {
+        std::fprintf(stderr, "demo_monitor: bad --duration '%s'\n", v.c_str());
+        return 2;
+      }
+    } else if (a == "-h" || a == "--help") {
+      usage();
+      return 0;
+    } else {
+      std::fprintf(stderr, "demo_monitor: unknown argument '%s'\n", a.c_str());
+      usage();
+      return 2;
+    }
+  }
+
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+  std::string camera_ns;
+  int camera_id = 0;
+  pnh.param<std::string>("camera", camera_ns, "camera_0");
+  pnh.param("camera_id", camera_id, 0);
+  if (duration < 0) pnh.param("duration", duration, 10.0);
+  if (snapshot.empty()) pnh.param<std::string>("snapshot", snapshot, "./soccer_vision_snapshot.png");
+
+  Monitor m;
+  ros::NodeHandle cam(nh, camera_ns);
+  const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
+  ros::Subscriber s1 = cam.subscribe("image_raw", 5, &Monitor::image, &m, hints);
+  ros::Subscriber s2 = cam.subscribe("camera_info", 5, &Monitor::info, &m, hints);
+  ros::Subscriber s3 = cam.subscribe("ground_truth/robots", 20, &Monitor::robotArray, &m, hints);
+  ros::Subscriber s4 = cam.subscribe("ground_truth/balls", 20, &Monitor::ballArray, &m, hints);
+  ROS_INFO("demo_monitor: watching %s for %.1f s", s1.getTopic().c_str(), duration);
+
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(duration);
+  while (ros::ok() && (duration == 0 || ros::WallTime::now() < end))
+    ros::WallDuration(0.05).sleep();
+  spinner.stop();
+  s1.shutdown();
+  s2.shutdown();
+  s3.shutdown();
+  s4.shutdown();
+
+  std::lock_guard<std::mutex> lock(m.mutex);
+  if (m.frames == 0 || !m.last_image) {
+    std::printf("demo_monitor: no frame received on %s in %.1f s\n", s1.getTopic().c_str(),
+                duration);
+    std::fflush(stdout);
+    return 1;
+  }
+  const sensor_msgs::Image& im = *m.last_image;
+  const double span = (m.last_receipt - m.first_receipt).toSec();
+  const double rate = m.frames > 1 && span > 0 ? (m.frames - 1) / span : 0.0;
+  std::vector<double> lat = m.latencies;
+  std::sort(lat.begin(), lat.end());
+  double mean = 0;
+  for (double l : lat) mean += l;
+  mean /= lat.size();
+  const double p99 = lat[std::min(lat.size() - 1, static_cast<std::size_t>(0.99 * lat.size()))];
+
+  std::printf("demo_monitor summary (%s)\n", s1.getTopic().c_str());
+  std::printf("  frames received   %zu in %.2f s\n", m.frames, span);
+  std::printf("  rate              %.2f Hz\n", rate);
+  std::printf("  latency           mean %.2f ms, p99 %.2f ms, max %.2f ms (receipt - capture stamp)\n",
+              1e3 * mean, 1e3 * p99, 1e3 * lat.back());
+  std::printf("  camera_info       %zu messages\n", m.camera_infos);
+  std::printf("  encoding          %s\n", im.encoding.c_str());
+  std::printf("  resolution        %ux%u\n", im.width, im.height);
+  if (m.gt_frames > 0) {
+    std::printf("  visible robots    %.2f per frame (ground truth, %zu frames)\n",
+                static_cast<double>(m.visible_robot_sum) / m.gt_frames, m.gt_frames);
+    std::printf("  visible balls     %.2f per frame\n",
+                static_cast<double>(m.visible_ball_sum) / m.gt_frames);
+  } else {
+    std::printf("  ground truth      none received\n");
+  }
+
+  // Snapshot: the newest frame whose ground truth arrived (else the last frame), demosaiced
+  // if Bayer, with its ground truth drawn on it.
+  sensor_msgs::ImageConstPtr shot = m.last_image;
+  for (auto it = m.recent.rbegin(); it != m.recent.rend(); ++it) {
+    if (m.robots.count((*it)->header.stamp)) {
+      shot = *it;
+      break;
+    }
+  }
+  int status = 0;
+  try {
+    const cv_bridge::CvImageConstPtr cv = cv_bridge::toCvShare(shot);
+    cv::Mat bgr;
+    const int code = sv::bayerToBgrCode(im.encoding);
+    if (code >= 0) {
+      cv::cvtColor(cv->image, bgr, code);
+    } else if (im.encoding == "bgr8") {
+      bgr = cv->image.clone();
+    } else {
+      bgr = cv_bridge::cvtColor(cv, "bgr8")->image;
+    }
+    const auto rit = m.robots.find(shot->header.stamp);
+    const auto bit = m.balls.find(shot->header.stamp);
+    const sv::CameraModel camera = sv::CameraModel::defaultCamera(
+        sv::FieldGeometry{}, camera_id, static_cast<int>(im.width), static_cast<int>(im.height));
+    annotate(bgr, camera, rit != m.robots.end() ? rit->second : nullptr,
+             bit != m.balls.end() ? bit->second : nullptr);
+    if (!cv::imwrite(snapshot, bgr)) throw std::runtime_error("cv::imwrite failed");
+    std::printf("  snapshot          %s%s\n", snapshot.c_str(),
+                rit == m.robots.end() ? " (no ground truth for this frame)" : "");
+  } catch (const std::exception& e) {
+    std::printf("demo_monitor: cannot write snapshot %s: %s\n", snapshot.c_str(), e.what());
+    status = 3;
+  }
+  std::fflush(stdout);
+  return status;
+}
