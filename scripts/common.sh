@@ -38,8 +38,14 @@ install_missing() {
 
 # Builds the package; extra make targets (e.g. "tests") may be given.
 build_workspace() {
-  mkdir -p "$WS/src"
-  ln -sfn "$REPO" "$WS/src/soccer_vision"
+  # The package directory links every top-level entry of the repository but the workspace
+  # itself: a link to the repository root would make a file-system loop (.ws inside it)
+  # that rosrun's find and other crawlers trip over.
+  local pkg="$WS/src/soccer_vision" entry
+  [ -L "$pkg" ] && rm "$pkg"
+  mkdir -p "$pkg"
+  for entry in "$REPO"/*; do ln -sfn "$entry" "$pkg/"; done
+  find "$pkg" -maxdepth 1 -xtype l -delete  # entries removed from the repository
   (cd "$WS" && catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON -j2 "$@" \
       > "$WS/build.log" 2>&1) || { tail -n 60 "$WS/build.log"; echo "== build failed (full log: $WS/build.log)"; return 1; }
   grep -E "warning:" "$WS/build.log" | sort -u | head -n 20 || true

@@ -19,7 +19,8 @@
 //                                          falls back to the true calibration (synthetic) or
 //                                          an uncalibrated camera_info (size only).
 //                                          set_camera_info replaces it at run time.
-//   scenario          string  ""           Synthetic: scenario preset YAML path; empty = the
+//   scenario          string  ""           Synthetic: scenario preset name (config/scenarios/
+//                                          NAME.yaml) or YAML path; empty = the
 //                                          embedded default. A file that fails to load logs an
 //                                          error (repeated every 60 s) and the default is used.
 //   fps               double  scenario fps Frame rate [Hz] (also dynamic_reconfigure). Unset:
@@ -90,6 +91,7 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/frame_source.h"
 #include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/package_paths.h"
 
 namespace soccer_vision {
 
@@ -222,6 +224,11 @@ void CameraDriverNodelet::onInit() {
 
   options_.camera_index = camera_id_;
   pnh.param<std::string>("scenario", options_.scenario, "");
+  try {
+    options_.scenario = resolveScenarioPath(options_.scenario);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("%s", e.what());  // the source then reports the unreadable path and falls back
+  }
   pnh.param("fps", options_.fps, 0.0);  // 0: the source's native rate
   pnh.param("width", options_.width, 0);
   pnh.param("height", options_.height, 0);

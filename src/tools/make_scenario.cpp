@@ -17,7 +17,6 @@
 #include <camera_calibration_parsers/parse.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <ros/package.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/Image.h>
 
@@ -26,6 +25,7 @@
 #include "soccer_vision/field_renderer.h"
 #include "soccer_vision/game_simulator.h"
 #include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/package_paths.h"
 
 namespace sv = soccer_vision;
 
@@ -88,17 +88,6 @@ Options parseArgs(int argc, char** argv) {
   return o;
 }
 
-// A preset name resolves to the package's config/scenarios/NAME.yaml; anything with a
-// slash or a .yaml suffix is a path.
-std::string presetPath(const std::string& preset) {
-  if (preset.find('/') != std::string::npos || preset.size() > 5 && preset.substr(preset.size() - 5) == ".yaml") {
-    return preset;
-  }
-  const std::string pkg = ros::package::getPath("soccer_vision");
-  if (pkg.empty()) throw std::runtime_error("cannot find the soccer_vision package to look up preset '" + preset + "'");
-  return pkg + "/config/scenarios/" + preset + ".yaml";
-}
-
 std::string directoryOf(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? "." : path.substr(0, slash);
@@ -120,7 +109,7 @@ struct CameraChannel {
 };
 
 int run(const Options& o) {
-  sv::ScenarioConfig scenario = sv::loadScenario(presetPath(o.preset));
+  sv::ScenarioConfig scenario = sv::loadScenario(sv::resolveScenarioPath(o.preset));
   if (o.width > 0) scenario.width = o.width;
   if (o.height > 0) scenario.height = o.height;
   if (o.seed >= 0) scenario.seed = static_cast<std::uint64_t>(o.seed);
