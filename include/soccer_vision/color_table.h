@@ -94,7 +94,7 @@ struct ColorTableStatistics {
 class ColorTable {
  public:
   // Version of the `.svct` layout this build writes and reads.
-  static constexpr std::uint32_t kFormatVersion = 1;
+  static constexpr std::uint32_t kFormatVersion = 2;
 
   // Builds the table from sample pixels. Throws std::invalid_argument for bad parameters
   // or samples given for ColorClass::None (the background without samples).
@@ -123,7 +123,15 @@ class ColorTable {
   // All cells, index (h_bin * s_bins + s_bin) * v_bins + v_bin.
   const std::vector<ColorClass>& cells() const { return cells_; }
 
-  // `.svct` file: magic, format version, file size, parameters, statistics, cells, CRC-32.
+  // Illumination reference of the calibration images (DESIGN.md §2): mean V per 32x32
+  // block, CV_32FC1 of the images' block grid; empty when the table has none.
+  const cv::Mat& illuminationReference() const { return illumination_reference_; }
+  // This table with that reference (copied). Throws std::invalid_argument unless it is
+  // empty or a CV_32FC1 of finite values.
+  ColorTable withIlluminationReference(cv::Mat reference) const;
+
+  // `.svct` file: magic, format version, file size, parameters, statistics, cells,
+  // illumination reference, CRC-32.
   // save throws std::runtime_error when the file cannot be written; load throws
   // std::runtime_error naming the file and the problem (missing file, wrong magic,
   // unsupported version, truncated, checksum mismatch, inconsistent content).
@@ -136,6 +144,7 @@ class ColorTable {
   ColorTableParams params_;
   ColorTableStatistics stats_;
   std::vector<ColorClass> cells_;
+  cv::Mat illumination_reference_;
 };
 
 }  // namespace soccer_vision

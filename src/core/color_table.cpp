@@ -121,6 +121,11 @@ class ByteWriter {
     std::memcpy(&bits, &v, sizeof bits);
     u64(bits);
   }
+  void f32(float v) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    u32(bits);
+  }
   void patchU64(std::size_t offset, std::uint64_t v) {
     for (int i = 0; i < 8; ++i) out_[offset + i] = static_cast<std::uint8_t>(v >> (8 * i));
   }
@@ -147,6 +152,12 @@ class ByteReader {
   double f64() {
     const std::uint64_t bits = u64();
     double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  float f32() {
+    const std::uint32_t bits = u32();
+    float v;
     std::memcpy(&v, &bits, sizeof v);
     return v;
   }
@@ -357,12 +368,22 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
   return table;
 }
 
+ColorTable ColorTable::withIlluminationReference(cv::Mat reference) const {
+  if (!reference.empty() && (reference.type() != CV_32FC1 || reference.dims != 2 || !cv::checkRange(reference))) {
+    throw std::invalid_argument("colour table: the illumination reference must be a CV_32FC1 of finite block means");
+  }
+  ColorTable table = *this;
+  table.illumination_reference_ = reference.empty() ? cv::Mat() : reference.clone();
+  return table;
+}
+
 // Layout (little-endian):
 //   magic[8] | u32 version | u64 file size | u32 class count | u32 h_bins, s_bins, v_bins |
 //   f64 threshold_lab, threshold_h | u32 override count, {u8 class, f64 lab, f64 h}... |
 //   u32 overlap cells | per class: u32 samples, valid, cells claimed, cells assigned,
 //   f64 mean L a b, mean h, threshold lab, threshold h, mean h valid, var h, mean s,
-//   var s, mean v, var v | u64 cell count, u8 cells... | u32 CRC-32 of all bytes before it
+//   var s, mean v, var v | u64 cell count, u8 cells... | u32 illumination reference rows,
+//   cols, f32 block means row by row (0 x 0: none) | u32 CRC-32 of all bytes before it
 void ColorTable::save(const std::string& path) const {
   ByteWriter w;
   w.bytes(kMagic, sizeof kMagic);
@@ -384,6 +405,11 @@ void ColorTable::save(const std::string& path) const {
   for (const ClassStatistics& st : stats_.classes) writeClassStatistics(w, st);
   w.u64(cells_.size());
   w.bytes(cells_.data(), cells_.size());
+  w.u32(static_cast<std::uint32_t>(illumination_reference_.rows));
+  w.u32(static_cast<std::uint32_t>(illumination_reference_.cols));
+  for (int y = 0; y < illumination_reference_.rows; ++y) {
+    for (int x = 0; x < illumination_reference_.cols; ++x) w.f32(illumination_reference_.at<float>(y, x));
+  }
   w.patchU64(kSizeOffset, w.buffer().size() + kChecksumBytes);
   w.u32(crc32(w.buffer().data(), w.buffer().size()));
 
@@ -463,6 +489,17 @@ ColorTable ColorTable::load(const std::string& path) {
     if (cells[i] >= kNumColorClasses) r.fail("inconsistent content (cell " + std::to_string(i) + " has no class)");
     table.cells_[i] = static_cast<ColorClass>(cells[i]);
   }
+  const std::uint32_t rows = r.u32(), cols = r.u32();
+  if ((rows == 0) != (cols == 0) || static_cast<std::uint64_t>(rows) * cols > (body_end - r.position()) / 4) {
+    r.fail("inconsistent sizes (illumination reference of " + std::to_string(rows) + " x " + std::to_string(cols) +
+           " blocks)");
+  }
+  cv::Mat reference(static_cast<int>(rows), static_cast<int>(cols), CV_32FC1);
+  for (int y = 0; y < reference.rows; ++y) {
+    for (int x = 0; x < reference.cols; ++x) reference.at<float>(y, x) = r.f32();
+  }
+  if (!reference.empty() && !cv::checkRange(reference)) r.fail("inconsistent content (illumination reference is not finite)");
+  table.illumination_reference_ = reference;
   if (r.position() != body_end) r.fail("inconsistent sizes (unexpected bytes after the cells)");
   return table;
 }

@@ -351,8 +351,11 @@ class ColorTableFile : public ::testing::Test {
     }
     ColorTableParams params;
     params.overrides[ColorClass::Red] = {25.0, 12.5};
+    cv::Mat1f reference(3, 4);
+    for (int i = 0; i < 12; ++i) reference(i / 4, i % 4) = 60.0f + 10.25f * i;
     table_ = std::make_unique<ColorTable>(
-        ColorTable::build({{ColorClass::Blue, blue}, {ColorClass::Red, red}, {ColorClass::Carpet, carpet}}, params));
+        ColorTable::build({{ColorClass::Blue, blue}, {ColorClass::Red, red}, {ColorClass::Carpet, carpet}}, params)
+            .withIlluminationReference(reference));
     path_ = ::testing::TempDir() + "/test_color_table.svct";
     table_->save(path_);
     bytes_ = readBytes(path_);
@@ -395,9 +398,32 @@ TEST_F(ColorTableFile, RoundTripsExactly) {
   }
   EXPECT_GT(loaded.statistics().classes[static_cast<int>(ColorClass::Red)].valid, 0u);
   EXPECT_EQ(loaded.classify(202, 83, 21), table_->classify(202, 83, 21));
+  ASSERT_EQ(loaded.illuminationReference().type(), CV_32FC1);
+  ASSERT_EQ(loaded.illuminationReference().size(), cv::Size(4, 3));
+  EXPECT_EQ(cv::norm(loaded.illuminationReference(), table_->illuminationReference(), cv::NORM_INF), 0.0);
   // Saving the loaded table gives the same bytes.
   loaded.save(path_);
   EXPECT_EQ(readBytes(path_), bytes_);
+}
+
+TEST_F(ColorTableFile, IlluminationReferenceIsOptionalAndChecked) {
+  const ColorTable without = table_->withIlluminationReference(cv::Mat());
+  EXPECT_TRUE(without.illuminationReference().empty());
+  EXPECT_FALSE(table_->illuminationReference().empty()) << "the original is unchanged";
+  without.save(path_);
+  const ColorTable loaded = ColorTable::load(path_);
+  EXPECT_TRUE(loaded.illuminationReference().empty());
+  EXPECT_EQ(loaded.cells(), table_->cells());
+  EXPECT_EQ(readBytes(path_).size(), bytes_.size() - 12 * 4) << "only the block means differ";
+
+  // The table keeps its own copy.
+  cv::Mat1f reference(2, 2, 100.0f);
+  const ColorTable with = table_->withIlluminationReference(reference);
+  reference(0, 0) = 0;
+  EXPECT_EQ(with.illuminationReference().at<float>(0, 0), 100.0f);
+
+  EXPECT_THROW(table_->withIlluminationReference(cv::Mat1b(2, 2)), std::invalid_argument);
+  EXPECT_THROW(table_->withIlluminationReference(cv::Mat1f(1, 1, std::nanf(""))), std::invalid_argument);
 }
 
 TEST_F(ColorTableFile, DamagedFilesAreRejectedWithDistinctMessages) {
@@ -410,7 +436,7 @@ TEST_F(ColorTableFile, DamagedFilesAreRejectedWithDistinctMessages) {
   flipped[bytes_.size() / 2] ^= 0x10;
   std::vector<std::uint8_t> truncated(bytes_.begin(), bytes_.end() - 100);
   std::vector<std::uint8_t> wrong_version = bytes_;
-  wrong_version[8] = 2;
+  wrong_version[8] = 1;  // version 1 had no illumination reference
   std::vector<std::uint8_t> wrong_magic = bytes_;
   wrong_magic[0] = 'X';
   std::vector<std::uint8_t> trailing = bytes_;
@@ -419,7 +445,7 @@ TEST_F(ColorTableFile, DamagedFilesAreRejectedWithDistinctMessages) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {error_of(flipped), "checksum mismatch"},
       {error_of(truncated), "truncated"},
-      {error_of(wrong_version), "unsupported format version 2"},
+      {error_of(wrong_version), "unsupported format version 1"},
       {error_of(wrong_magic), "wrong magic"},
       {error_of(trailing), "inconsistent sizes"},
       {error_of({}), "truncated"},

@@ -1,0 +1,132 @@
+// The fast path of the colour table: classifies pixels straight from the camera's
+// encoding (bgr8, rgb8, Bayer mosaics without demosaicing), with the paper's block-wise
+// illumination adaptation folded into the lookup, and optional Laplacian sharpening of V.
+// Every result equals ColorTable::classify(b, g, r, v_offset) (plus the sharpening term
+// when enabled) for that pixel: the tables here are a re-indexing of the colour table,
+// never an approximation of it.
+//
+// Label resolution: one label per image pixel for bgr8/rgb8; one label per 2x2 Bayer quad
+// (its R, the mean of its two G rounded half up: (G1 + G2 + 1) >> 1, its B) for Bayer
+// encodings, i.e. half the image size.
+//
+// Sharpening (paper §IV), on V = max(b, g, r) of label pixels, before the offset:
+//   L(x, y)  = V(x-1, y) + V(x+1, y) + V(x, y-1) + V(x, y+1) - 4 V(x, y), with coordinates
+//              outside the label image replaced by the nearest inside (border replicated);
+//   V_s      = clamp(V - lround(sharpen * L), 0, 255)   (lround: half away from zero);
+//   class    = table.classifyHsv(H, S, V_s + offset)     (H, S of the pixel itself),
+// i.e. ColorTable::classify with V replaced by V_s. sharpen = 0 is exactly the table.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "soccer_vision/color_table.h"
+
+namespace soccer_vision {
+
+namespace detail {
+struct ClassLookup;  // the re-indexed table, defined in pixel_classifier.cpp
+}
+
+enum class PixelLayout { Bgr, Rgb, BayerRggb, BayerBggr, BayerGbrg, BayerGrbg };
+
+// sensor_msgs encoding name -> layout; nullopt for anything else (mono8, 16-bit, yuv...).
+std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding);
+bool isBayer(PixelLayout layout);
+// Label image size for an image of `image_size` in this layout.
+cv::Size labelSize(cv::Size image_size, PixelLayout layout);
+
+// Where the colours of label row `y` lie in an image of this layout: label pixel x has
+// B = b[x * step], G = (g1[x * step] + g2[x * step] + 1) >> 1, R = r[x * step] (for
+// bgr8/rgb8 g1 == g2). Unchecked (hot path): the image must fit the layout and y be a row
+// of its label image.
+struct LabelRow {
+  const std::uint8_t *b, *g1, *g2, *r;
+  int step;
+};
+LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y);
+// Throws std::invalid_argument unless the image fits the layout (see FrameClassifier).
+void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout);
+
+// Which classes produce regions (a bit per ColorClass value).
+using ClassMask = std::uint32_t;
+constexpr ClassMask classBit(ColorClass c) { return ClassMask(1) << static_cast<int>(c); }
+ClassMask markerClassMask();  // Blue .. Orange
+
+// Per 32x32-pixel block of the image (the paper's blocks), the V offset round(k * Δv)
+// added before the lookup. CV_16SC1 of ceil(h/32) x ceil(w/32); empty = all zero.
+struct BlockOffsets {
+  static constexpr int kBlockSize = 32;  // image pixels
+  cv::Mat offsets;
+};
+
+// Immutable after construction: shared by threads, swapped atomically as a whole.
+// Construction re-indexes the table (~4 MB, ~0.1 s): do it when a table is loaded.
+// Throws std::invalid_argument for a table with more than 65536 distinct V columns
+// (impossible with the default 90 x 16 bins).
+class PixelClassifier {
+ public:
+  explicit PixelClassifier(std::shared_ptr<const ColorTable> table);
+  const ColorTable& table() const { return *table_; }
+  std::shared_ptr<const ColorTable> tableShared() const { return table_; }
+
+  // One colour (b, g, r) with a V offset; equals table().classify(b, g, r, v_offset).
+  ColorClass classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset) const;
+
+ private:
+  friend class FrameClassifier;
+  std::shared_ptr<const ColorTable> table_;
+  std::shared_ptr<const detail::ClassLookup> lookup_;
+};
+
+// One frame bound to a classifier: classifies rectangles or grid points of it on demand,
+// so segmentation only touches the pixels it needs.
+class FrameClassifier {
+ public:
+  // `image` and `classifier` must stay alive and unchanged while this object is used
+  // (`offsets` is shared, not copied: leave it unchanged too). Throws
+  // std::invalid_argument when its type does not fit the layout (CV_8UC3 for Bgr/Rgb,
+  // CV_8UC1 with even width and height for Bayer), when `offsets` is neither empty nor a
+  // CV_16SC1 of the image's block grid, or when sharpen < 0.
+  FrameClassifier(const PixelClassifier& classifier, const cv::Mat& image, PixelLayout layout,
+                  const BlockOffsets& offsets, double sharpen = 0.0);
+
+  cv::Size labelSize() const;
+  // Labels (ColorClass values) of every label pixel in `rect` (label coordinates, inside
+  // the label image) written to `out`, a CV_8UC1 of rect.size() (may be a view into a
+  // larger matrix; allocated when it is not of that size and type). Throws
+  // std::invalid_argument for a rect outside the label image.
+  void classify(const cv::Rect& rect, cv::Mat& out) const;
+  // Label pixels (x, y) in `rect` with x % stride == 0 and y % stride == 0 whose class is
+  // in `classes`, appended to `hits` row by row. Most pixels are rejected by a 4x4x4
+  // colour-cube test before the full lookup. Throws std::invalid_argument for stride < 1
+  // or a rect outside the label image.
+  void scanGrid(const cv::Rect& rect, int stride, ClassMask classes, std::vector<cv::Point>& hits) const;
+  // Colour of a label pixel as classified (BGR; a Bayer quad's R, mean G, B), for
+  // sub-pixel weighting of region edges.
+  cv::Vec3b colorAt(int x, int y) const;
+  // V (max channel) of a label pixel as looked up: sharpened (when enabled), plus the
+  // illumination offset, clamped to 0..255. For debugging/tests.
+  int adaptedV(int x, int y) const;
+
+ private:
+  int sharpenedV(int x, int y) const;
+  void classifySharpened(const cv::Rect& rect, cv::Mat& out) const;
+  int offsetAt(int x, int y) const;
+  void checkRect(const cv::Rect& rect) const;
+
+  const PixelClassifier& classifier_;
+  cv::Mat image_;
+  PixelLayout layout_;
+  cv::Size label_size_;
+  cv::Mat offsets_;   // CV_16SC1 per block (shares the caller's data); zeros when none given
+  int block_shift_;   // log2 of the block side in label pixels: 32 image pixels
+  std::vector<std::int16_t> sharpen_terms_;  // lround(sharpen * L) for L = -1020 .. 1020; empty: off
+};
+
+}  // namespace soccer_vision

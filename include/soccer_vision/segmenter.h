@@ -1,0 +1,74 @@
+// The segmentation stage of the pipeline (paper §III-A/B, Fig. 3) as one object: per
+// frame, illumination offsets per block, then regions of the marker classes found by the
+// RegionExtractor over a FrameClassifier — in the whole frame or in search windows.
+// Everything it returns is in image pixel coordinates, whatever the encoding.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "soccer_vision/color_table.h"
+#include "soccer_vision/illumination_adaptation.h"
+#include "soccer_vision/pixel_classifier.h"
+#include "soccer_vision/region_extractor.h"
+
+namespace soccer_vision {
+
+struct SegmentationParams {
+  double illumination_k = 0.3;        // the paper's k; 0 disables the adaptation
+  int illumination_sample_step = 4;   // read every n-th row/column of a block for its mean V
+  int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units
+  double sharpen = 0.0;               // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
+  RegionParams regions;
+};
+
+struct SegmentationTimings {
+  double illumination_ms = 0, classification_ms = 0, morphology_ms = 0, regions_ms = 0, total_ms = 0;
+};
+
+struct SegmentationResult {
+  std::vector<Region> regions;   // image pixel coordinates (Bayer: quad centres mapped back)
+  bool global_search = true;
+  std::vector<cv::Rect> windows; // image pixels, as used (clipped to the image)
+  std::array<std::uint32_t, kNumColorClasses> cap_hits{};
+  bool illumination_size_mismatch = false;  // reference made for another image size
+  SegmentationTimings timings;
+};
+
+// The shared, immutable part: colour table + its fast lookup + illumination reference.
+// Built once per table (costly: fills the lookup), then shared by pointer and swapped
+// atomically when a new table is loaded or calibrated.
+struct SegmentationModel {
+  std::shared_ptr<const PixelClassifier> classifier;
+  IlluminationAdaptation illumination;
+
+  static std::shared_ptr<const SegmentationModel> fromTable(std::shared_ptr<const ColorTable> table);
+};
+
+class Segmenter {
+ public:
+  explicit Segmenter(const SegmentationParams& params = {});
+  void setParams(const SegmentationParams& params);
+  const SegmentationParams& params() const { return params_; }
+
+  // One frame. `windows` in image pixels; empty = global search. Throws
+  // std::invalid_argument for an image whose type does not fit `layout`.
+  void process(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
+               const std::vector<cv::Rect>& windows, SegmentationResult& out);
+
+ private:
+  SegmentationParams params_;
+  RegionExtractor extractor_;
+};
+
+// Labels of every pixel (label resolution) with the same illumination offsets and
+// sharpening as Segmenter::process, e.g. for the debug image and accuracy tests.
+cv::Mat classifyAll(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
+                    const SegmentationParams& params = {});
+// Colour-coded BGR picture of a label image (each class in its nominal colour, None black).
+cv::Mat colorizeLabels(const cv::Mat& labels);
+
+}  // namespace soccer_vision

@@ -1,0 +1,430 @@
+// The fast path re-indexes the colour table instead of converting pixels to HSV:
+//
+//  * H and S of a pixel do not depend on the V offset, only V's bin does. So every 24-bit
+//    colour is mapped once, with the table's own bgrToHsv/hBin/sBin, to the *V column* of
+//    its HS cell: the 256 classes of that cell for V' = 0..255, with V' = clamp(V + offset).
+//    HS cells with equal columns share one (most of the HS plane is all None; a calibrated
+//    table has tens of distinct columns), so the lookup is
+//    class = column[id(b, g, r)][clamp(max(b, g, r) + offset)].
+//  * id(b, g, r) is a two-level table: the 4x4x4 colour cube (6 bits per channel, 2^18
+//    uint32) gives a block of 64 column ids (uint16) for the colours inside it. A cube
+//    whose colours all share one column points at that column's shared uniform block; only
+//    cubes across an HS cell border own a block (~6 % of them): ~1 MB + ~2 MB instead of a
+//    flat 2^24 table's 32 MB, so lookups stay in L2/L3 even with several cameras.
+//  * Per cube, the classes any of its colours can take at any V (2^18 uint16, 512 KB; the
+//    carpet's few cubes stay in L1) reject most grid points before the lookup proper.
+#include "soccer_vision/pixel_classifier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace soccer_vision {
+namespace detail {
+
+struct ClassLookup {
+  static constexpr int kLevels = 256;
+  static constexpr int kCubeShift = 2;  // 6 bits per channel
+  static constexpr int kCubeBits = 8 - kCubeShift;
+  static constexpr int kCubeColors = 1 << (3 * kCubeShift);
+
+  std::vector<std::uint32_t> cube_block;       // cube -> block of its colours' column ids
+  std::vector<std::uint16_t> block_columns;    // block * 64 + colour in cube -> column id
+  std::vector<std::uint8_t> column_classes;    // column id * 256 + V' -> ColorClass
+  std::vector<std::uint16_t> cube_classes;     // cube -> ClassMask of its possible classes
+
+  static std::size_t inCube(int b, int g, int r) {
+    constexpr int low = (1 << kCubeShift) - 1;
+    return static_cast<std::size_t>(((b & low) << (2 * kCubeShift)) | ((g & low) << kCubeShift) | (r & low));
+  }
+  static std::size_t cubeIndex(int b, int g, int r) {
+    return (static_cast<std::size_t>(b >> kCubeShift) << (2 * kCubeBits)) |
+           (static_cast<std::size_t>(g >> kCubeShift) << kCubeBits) | static_cast<std::size_t>(r >> kCubeShift);
+  }
+  bool mayBeIn(int b, int g, int r, ClassMask classes) const { return cube_classes[cubeIndex(b, g, r)] & classes; }
+  // adapted_v in 0..255.
+  std::uint8_t classAt(int b, int g, int r, int adapted_v) const {
+    const std::size_t block = cube_block[cubeIndex(b, g, r)];
+    const std::size_t column = block_columns[block * kCubeColors + inCube(b, g, r)];
+    return column_classes[column * kLevels + static_cast<std::size_t>(adapted_v)];
+  }
+};
+
+}  // namespace detail
+
+namespace {
+
+using detail::ClassLookup;
+static_assert(kNumColorClasses <= 16, "cube masks are 16 bits");
+
+constexpr int clampV(int v) { return v < 0 ? 0 : v > 255 ? 255 : v; }
+constexpr int maxOf(int b, int g, int r) { return std::max(b, std::max(g, r)); }
+constexpr int kMaxLaplacian = 4 * 255;
+
+// Columns: the table's V bins expanded to 256 levels, equal columns shared.
+struct Columns {
+  std::vector<std::uint16_t> of_hs_cell;
+  std::vector<std::uint8_t> classes;
+  std::vector<std::uint16_t> masks;
+};
+
+Columns buildColumns(const ColorTable& table) {
+  const ColorTableParams& p = table.params();
+  const std::size_t hs_cells = static_cast<std::size_t>(p.h_bins) * p.s_bins;
+  const std::vector<ColorClass>& cells = table.cells();
+  Columns columns;
+  columns.of_hs_cell.resize(hs_cells);
+  std::map<std::vector<ColorClass>, std::uint16_t> ids;
+  for (std::size_t hs = 0; hs < hs_cells; ++hs) {
+    std::vector<ColorClass> bins(cells.begin() + static_cast<std::ptrdiff_t>(hs * p.v_bins),
+                                 cells.begin() + static_cast<std::ptrdiff_t>((hs + 1) * p.v_bins));
+    auto [it, added] = ids.emplace(std::move(bins), static_cast<std::uint16_t>(ids.size()));
+    if (added) {
+      if (ids.size() > 65536) {
+        throw std::invalid_argument("PixelClassifier: the colour table has more than 65536 distinct V columns");
+      }
+      std::uint16_t mask = 0;
+      for (int v = 0; v < ClassLookup::kLevels; ++v) {
+        const ColorClass c = it->first[static_cast<std::size_t>(table.vBin(v))];
+        columns.classes.push_back(static_cast<std::uint8_t>(c));
+        mask |= static_cast<std::uint16_t>(classBit(c));
+      }
+      columns.masks.push_back(mask);
+    }
+    columns.of_hs_cell[hs] = it->second;
+  }
+  return columns;
+}
+
+// Every 24-bit colour -> its column, through the table's own HSV conversion and binning,
+// cube by cube. bgrToHsv's hue depends only on which channel is the maximum, max - min and
+// the difference of the other two, and its saturation only on max and max - min:
+// memoising on those keys evaluates the definition ~200k times instead of 2^24.
+std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
+  const Columns columns = buildColumns(table);
+  const int s_bins = table.params().s_bins;
+
+  std::vector<std::int16_t> s_bin(256 * 256);  // [max][range]
+  for (int max = 0; max < 256; ++max) {
+    for (int range = 0; range <= max; ++range) {
+      const auto lo = static_cast<std::uint8_t>(max - range);
+      s_bin[max * 256 + range] = static_cast<std::int16_t>(table.sBin(bgrToHsv(static_cast<std::uint8_t>(max), lo, lo).s));
+    }
+  }
+  std::vector<std::int16_t> h_bin(3 * 256 * 511, -1);  // [sector][range][difference + 255], lazily
+
+  auto column_of = [&](int b, int g, int r) {
+    const int max = maxOf(b, g, r);
+    const int range = max - std::min(b, std::min(g, r));
+    // Same branch order as bgrToHsv.
+    const int sector = max == r ? 0 : max == g ? 1 : 2;
+    const int difference = sector == 0 ? g - b : sector == 1 ? b - r : r - g;
+    std::int16_t& hb = h_bin[(sector * 256 + range) * 511 + difference + 255];
+    if (hb < 0) {
+      hb = static_cast<std::int16_t>(table.hBin(
+          bgrToHsv(static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(r)).h));
+    }
+    return columns.of_hs_cell[static_cast<std::size_t>(hb) * s_bins + static_cast<std::size_t>(s_bin[max * 256 + range])];
+  };
+
+  constexpr int side = 1 << ClassLookup::kCubeShift, cubes_per_channel = 1 << ClassLookup::kCubeBits;
+  const std::size_t n_columns = columns.masks.size();
+  auto lookup = std::make_shared<ClassLookup>();
+  lookup->column_classes = columns.classes;
+  lookup->cube_block.resize(std::size_t(1) << (3 * ClassLookup::kCubeBits));
+  lookup->cube_classes.resize(lookup->cube_block.size());
+  // Blocks 0 .. n_columns - 1: one uniform block per column.
+  for (std::size_t c = 0; c < n_columns; ++c) {
+    lookup->block_columns.insert(lookup->block_columns.end(), ClassLookup::kCubeColors, static_cast<std::uint16_t>(c));
+  }
+  std::uint16_t ids[ClassLookup::kCubeColors];
+  for (int cb = 0; cb < cubes_per_channel; ++cb) {
+    for (int cg = 0; cg < cubes_per_channel; ++cg) {
+      for (int cr = 0; cr < cubes_per_channel; ++cr) {
+        const int b0 = cb * side, g0 = cg * side, r0 = cr * side;
+        std::uint16_t mask = 0;
+        bool uniform = true;
+        for (int db = 0; db < side; ++db) {
+          for (int dg = 0; dg < side; ++dg) {
+            for (int dr = 0; dr < side; ++dr) {
+              const std::size_t i = ClassLookup::inCube(db, dg, dr);
+              ids[i] = column_of(b0 + db, g0 + dg, r0 + dr);
+              mask = static_cast<std::uint16_t>(mask | columns.masks[ids[i]]);
+              uniform = uniform && ids[i] == ids[0];
+            }
+          }
+        }
+        const std::size_t cube = ClassLookup::cubeIndex(b0, g0, r0);
+        lookup->cube_classes[cube] = mask;
+        if (uniform) {
+          lookup->cube_block[cube] = ids[0];
+        } else {
+          lookup->cube_block[cube] = static_cast<std::uint32_t>(lookup->block_columns.size() / ClassLookup::kCubeColors);
+          lookup->block_columns.insert(lookup->block_columns.end(), ids, ids + ClassLookup::kCubeColors);
+        }
+      }
+    }
+  }
+  lookup->block_columns.shrink_to_fit();
+  return lookup;
+}
+
+// Label rows of one frame read with a compile-time pixel step (3: bgr/rgb, 2: Bayer).
+template <int Step>
+struct Pixels {
+  explicit Pixels(const LabelRow& row) : row(row) {}
+  int b(int x) const { return row.b[x * Step]; }
+  int g(int x) const {
+    if constexpr (Step == 3) return row.g1[x * Step];  // one green: g1 == g2
+    return (row.g1[x * Step] + row.g2[x * Step] + 1) >> 1;
+  }
+  int r(int x) const { return row.r[x * Step]; }
+  LabelRow row;
+};
+
+// Any layout, step known at run time: for the less travelled paths.
+int greenAt(const LabelRow& row, int x) { return (row.g1[x * row.step] + row.g2[x * row.step] + 1) >> 1; }
+int valueAt(const LabelRow& row, int x) { return maxOf(row.b[x * row.step], greenAt(row, x), row.r[x * row.step]); }
+
+}  // namespace
+
+// ---------------------------------------------------------------- layouts
+
+std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding) {
+  static const std::map<std::string, PixelLayout> layouts = {
+      {"bgr8", PixelLayout::Bgr},
+      {"rgb8", PixelLayout::Rgb},
+      {"bayer_rggb8", PixelLayout::BayerRggb},
+      {"bayer_bggr8", PixelLayout::BayerBggr},
+      {"bayer_gbrg8", PixelLayout::BayerGbrg},
+      {"bayer_grbg8", PixelLayout::BayerGrbg},
+  };
+  const auto it = layouts.find(encoding);
+  if (it == layouts.end()) return std::nullopt;
+  return it->second;
+}
+
+bool isBayer(PixelLayout layout) { return layout != PixelLayout::Bgr && layout != PixelLayout::Rgb; }
+
+cv::Size labelSize(cv::Size image_size, PixelLayout layout) {
+  return isBayer(layout) ? cv::Size(image_size.width / 2, image_size.height / 2) : image_size;
+}
+
+ClassMask markerClassMask() {
+  ClassMask mask = 0;
+  for (int c = static_cast<int>(ColorClass::Blue); c <= static_cast<int>(ColorClass::Orange); ++c) {
+    mask |= classBit(static_cast<ColorClass>(c));
+  }
+  return mask;
+}
+
+void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout) {
+  if (isBayer(layout)) {
+    if (image.type() != CV_8UC1 || image.cols % 2 != 0 || image.rows % 2 != 0) {
+      throw std::invalid_argument("a Bayer image must be CV_8UC1 with even width and height");
+    }
+  } else if (image.type() != CV_8UC3) {
+    throw std::invalid_argument("a bgr8/rgb8 image must be CV_8UC3");
+  }
+}
+
+LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
+  if (!isBayer(layout)) {
+    const std::uint8_t* p = image.ptr<std::uint8_t>(y);
+    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3} : LabelRow{p + 2, p + 1, p + 1, p, 3};
+  }
+  const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
+  const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
+  switch (layout) {
+    case PixelLayout::BayerRggb: return {bottom + 1, top + 1, bottom, top, 2};
+    case PixelLayout::BayerBggr: return {top, top + 1, bottom, bottom + 1, 2};
+    case PixelLayout::BayerGbrg: return {top + 1, top, bottom + 1, bottom, 2};
+    case PixelLayout::BayerGrbg: return {bottom, top, bottom + 1, top + 1, 2};
+    default: break;
+  }
+  throw std::invalid_argument("labelRow: unknown layout");
+}
+
+// ---------------------------------------------------------------- PixelClassifier
+
+PixelClassifier::PixelClassifier(std::shared_ptr<const ColorTable> table)
+    : table_(std::move(table)) {
+  if (!table_) throw std::invalid_argument("PixelClassifier: no colour table");
+  lookup_ = buildLookup(*table_);
+}
+
+ColorClass PixelClassifier::classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset) const {
+  // Offsets beyond ±255 saturate; limiting them first keeps the sum from overflowing.
+  const int offset = std::clamp(v_offset, -256, 256);
+  return static_cast<ColorClass>(lookup_->classAt(b, g, r, clampV(maxOf(b, g, r) + offset)));
+}
+
+// ---------------------------------------------------------------- FrameClassifier
+
+FrameClassifier::FrameClassifier(const PixelClassifier& classifier, const cv::Mat& image, PixelLayout layout,
+                                 const BlockOffsets& offsets, double sharpen)
+    : classifier_(classifier),
+      image_(image),
+      layout_(layout),
+      label_size_(soccer_vision::labelSize(image.size(), layout)),
+      block_shift_(isBayer(layout) ? 4 : 5) {
+  checkImageFitsLayout(image, layout);
+  static_assert(BlockOffsets::kBlockSize == 32, "block_shift_ assumes 32-pixel blocks");
+  const cv::Size blocks((image.cols + 31) / 32, (image.rows + 31) / 32);
+  if (offsets.offsets.empty()) {
+    offsets_ = cv::Mat::zeros(blocks, CV_16SC1);
+  } else if (offsets.offsets.type() != CV_16SC1 || offsets.offsets.size() != blocks) {
+    throw std::invalid_argument("FrameClassifier: offsets must be CV_16SC1 of " + std::to_string(blocks.height) +
+                                " x " + std::to_string(blocks.width) + " blocks");
+  } else {
+    offsets_ = offsets.offsets;
+  }
+  if (!(sharpen >= 0.0)) throw std::invalid_argument("FrameClassifier: sharpen must be >= 0");
+  if (sharpen > 0.0) {
+    sharpen_terms_.resize(2 * kMaxLaplacian + 1);
+    for (int l = -kMaxLaplacian; l <= kMaxLaplacian; ++l) {
+      // Terms beyond ±510 saturate every V: clamping them first keeps lround in range.
+      sharpen_terms_[l + kMaxLaplacian] = static_cast<std::int16_t>(std::lround(std::clamp(sharpen * l, -1000.0, 1000.0)));
+    }
+  }
+}
+
+cv::Size FrameClassifier::labelSize() const { return label_size_; }
+
+void FrameClassifier::checkRect(const cv::Rect& rect) const {
+  if (rect.x < 0 || rect.y < 0 || rect.width < 0 || rect.height < 0 || rect.x + rect.width > label_size_.width ||
+      rect.y + rect.height > label_size_.height) {
+    throw std::invalid_argument("FrameClassifier: rect outside the label image");
+  }
+}
+
+int FrameClassifier::offsetAt(int x, int y) const {
+  return offsets_.at<std::int16_t>(y >> block_shift_, x >> block_shift_);
+}
+
+int FrameClassifier::sharpenedV(int x, int y) const {
+  auto v = [&](int px, int py) {
+    return valueAt(labelRow(image_, layout_, std::clamp(py, 0, label_size_.height - 1)),
+                   std::clamp(px, 0, label_size_.width - 1));
+  };
+  const int centre = v(x, y);
+  if (sharpen_terms_.empty()) return centre;
+  const int laplacian = v(x - 1, y) + v(x + 1, y) + v(x, y - 1) + v(x, y + 1) - 4 * centre;
+  return clampV(centre - sharpen_terms_[laplacian + kMaxLaplacian]);
+}
+
+int FrameClassifier::adaptedV(int x, int y) const {
+  checkRect({x, y, 1, 1});
+  return clampV(sharpenedV(x, y) + offsetAt(x, y));
+}
+
+cv::Vec3b FrameClassifier::colorAt(int x, int y) const {
+  checkRect({x, y, 1, 1});
+  const LabelRow row = labelRow(image_, layout_, y);
+  return {row.b[x * row.step], static_cast<std::uint8_t>(greenAt(row, x)), row.r[x * row.step]};
+}
+
+namespace {
+
+// Labels of label row `row` for x in [x0, x1); `offsets` is the row's block offsets.
+template <int Step>
+void classifyRow(const ClassLookup& lookup, const LabelRow& row, const std::int16_t* offsets, int block_shift,
+                 int x0, int x1, std::uint8_t* out) {
+  const Pixels<Step> px(row);
+  for (int x = x0; x < x1; ++x) {
+    const int b = px.b(x), g = px.g(x), r = px.r(x);
+    *out++ = lookup.classAt(b, g, r, clampV(maxOf(b, g, r) + offsets[x >> block_shift]));
+  }
+}
+
+template <int Step>
+void scanRow(const ClassLookup& lookup, const LabelRow& row, const std::int16_t* offsets, int block_shift, int y,
+             int x0, int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
+  const Pixels<Step> px(row);
+  for (int x = x0; x < x1; x += stride) {
+    const int b = px.b(x), g = px.g(x), r = px.r(x);
+    if (!lookup.mayBeIn(b, g, r, classes)) continue;
+    const int label = lookup.classAt(b, g, r, clampV(maxOf(b, g, r) + offsets[x >> block_shift]));
+    if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
+  }
+}
+
+}  // namespace
+
+void FrameClassifier::classify(const cv::Rect& rect, cv::Mat& out) const {
+  checkRect(rect);
+  out.create(rect.size(), CV_8UC1);
+  if (!sharpen_terms_.empty()) {
+    classifySharpened(rect, out);
+    return;
+  }
+  const ClassLookup& lookup = *classifier_.lookup_;
+  for (int y = rect.y; y < rect.y + rect.height; ++y) {
+    std::uint8_t* labels = out.ptr<std::uint8_t>(y - rect.y);
+    const LabelRow row = labelRow(image_, layout_, y);
+    const std::int16_t* offsets = offsets_.ptr<std::int16_t>(y >> block_shift_);
+    if (row.step == 3) {
+      classifyRow<3>(lookup, row, offsets, block_shift_, rect.x, rect.x + rect.width, labels);
+    } else {
+      classifyRow<2>(lookup, row, offsets, block_shift_, rect.x, rect.x + rect.width, labels);
+    }
+  }
+}
+
+void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out) const {
+  // V of the rect and a one-pixel ring around it (border replicated), read once.
+  const int w = rect.width + 2;
+  std::vector<int> v(static_cast<std::size_t>(w) * (rect.height + 2));
+  for (int j = 0; j < rect.height + 2; ++j) {
+    const LabelRow row = labelRow(image_, layout_, std::clamp(rect.y - 1 + j, 0, label_size_.height - 1));
+    for (int i = 0; i < w; ++i) v[j * w + i] = valueAt(row, std::clamp(rect.x - 1 + i, 0, label_size_.width - 1));
+  }
+  const ClassLookup& lookup = *classifier_.lookup_;
+  const std::int16_t* terms = sharpen_terms_.data() + kMaxLaplacian;
+  for (int j = 0; j < rect.height; ++j) {
+    const int y = rect.y + j;
+    const LabelRow row = labelRow(image_, layout_, y);
+    const std::int16_t* offsets = offsets_.ptr<std::int16_t>(y >> block_shift_);
+    const int* above = &v[j * w + 1];
+    const int* centre = above + w;
+    const int* below = centre + w;
+    std::uint8_t* labels = out.ptr<std::uint8_t>(j);
+    for (int i = 0; i < rect.width; ++i) {
+      const int x = rect.x + i;
+      const int laplacian = above[i] + below[i] + centre[i - 1] + centre[i + 1] - 4 * centre[i];
+      const int sharpened = clampV(centre[i] - terms[laplacian]);
+      labels[i] = lookup.classAt(row.b[x * row.step], greenAt(row, x), row.r[x * row.step],
+                                 clampV(sharpened + offsets[x >> block_shift_]));
+    }
+  }
+}
+
+void FrameClassifier::scanGrid(const cv::Rect& rect, int stride, ClassMask classes,
+                               std::vector<cv::Point>& hits) const {
+  checkRect(rect);
+  if (stride < 1) throw std::invalid_argument("FrameClassifier::scanGrid: stride must be >= 1");
+  const ClassLookup& lookup = *classifier_.lookup_;
+  const int x0 = (rect.x + stride - 1) / stride * stride, x1 = rect.x + rect.width;
+  for (int y = (rect.y + stride - 1) / stride * stride; y < rect.y + rect.height; y += stride) {
+    const LabelRow row = labelRow(image_, layout_, y);
+    if (!sharpen_terms_.empty()) {
+      for (int x = x0; x < x1; x += stride) {
+        const int b = row.b[x * row.step], g = greenAt(row, x), r = row.r[x * row.step];
+        if (!lookup.mayBeIn(b, g, r, classes)) continue;
+        const int label = lookup.classAt(b, g, r, clampV(sharpenedV(x, y) + offsetAt(x, y)));
+        if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
+      }
+      continue;
+    }
+    const std::int16_t* offsets = offsets_.ptr<std::int16_t>(y >> block_shift_);
+    if (row.step == 3) {
+      scanRow<3>(lookup, row, offsets, block_shift_, y, x0, x1, stride, classes, hits);
+    } else {
+      scanRow<2>(lookup, row, offsets, block_shift_, y, x0, x1, stride, classes, hits);
+    }
+  }
+}
+
+}  // namespace soccer_vision

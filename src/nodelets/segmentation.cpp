@@ -1,0 +1,608 @@
+// soccer_vision/Segmentation: the segmentation stage (paper §III-A/B) between the camera
+// driver and identification. Per frame of `image_raw` (bgr8, rgb8 or an 8-bit Bayer mosaic,
+// classified without demosaicing): illumination adaptation, colour-table lookup and regions
+// of the marker colours, published as one BlobArray. A thin adapter: all of that is the
+// core's Segmenter (src/core/); this file only moves parameters, tables and messages.
+//
+// Parameters (private namespace ~; those marked (dr) are also dynamic_reconfigure, see
+// cfg/Segmentation.cfg, and apply from the next frame):
+//   camera_id         int     0       Camera number n: BlobArray.camera_id; search windows of
+//                                     another camera_id are ignored.
+//   color_table       string  ""      (dr) Colour-table file (.svct, calibrate_colors or
+//                                     ~calibrate with save). Loaded in the background at
+//                                     start-up and whenever it changes; a missing or corrupt
+//                                     file logs an error and keeps the previous table. Until a
+//                                     table exists (file or ~calibrate) frames are dropped
+//                                     (error repeated every 5 s).
+//   illumination_k    double  0.3     (dr) Paper's k: v' = v + k (v_ref - v_now) per 32x32
+//                                     block, v_ref from the table's calibration images; 0 = off.
+//   morph_kernel      int     3       (dr) Open + close with a k x k square per class; 0 = off.
+//   min_area          int     5       (dr) Smallest region kept [px of the label image].
+//   max_area          int     20000   (dr) Largest region kept [px of the label image].
+//   max_regions_per_class int 64      (dr) Cap per class and frame; the excess is dropped and
+//                                     counted in BlobArray.cap_hits.
+//   sharpen           double  0       (dr) Laplacian sharpening of V (paper §IV); 0 = off.
+//   coverage_weighted_moments bool true  (dr) Sub-pixel centroids from edge coverage; false =
+//                                     binary moments.
+//   threshold_lab     double  20      (dr) ~calibrate: Lab distance of valid samples (when the
+//                                     request gives 0).
+//   threshold_h       double  15      (dr) ~calibrate: hue distance [deg] of valid samples
+//                                     (when the request gives 0).
+//   search_window_max_age double 0.5  [s] search_windows older than this (image stamp minus
+//                                     windows stamp) are ignored: whole-frame search.
+//   queue_size        int     2       image_raw subscription queue.
+//   image_transport   string  "raw"   image_transport plugin for image_raw.
+//   debug_report_data_pointer bool false  Publish debug/image_data_address (testing zero copy).
+//   diagnostic_period double  1.0     [s] (diagnostic_updater's own parameter).
+//
+// Subscribed (node namespace, e.g. /camera_0/):
+//   image_raw          sensor_msgs/Image   bgr8, rgb8, bayer_{rggb,bggr,gbrg,grbg}8
+//                                          (image_transport, ConstPtr, never copied). Other
+//                                          encodings (mono8, 16-bit, yuv...) and truncated
+//                                          images are dropped with an error (every 5 s).
+//   search_windows     soccer_vision/SearchWindows  From tracking: the latest message is used
+//                                          for the next frames if its camera_id matches and
+//                                          it is at most search_window_max_age old;
+//                                          global_search = true, no message or an old one:
+//                                          the whole frame is searched.
+// Published (node namespace):
+//   blobs              soccer_vision/BlobArray  One per processed frame, header = the image's
+//                                          (capture stamp, optical frame); blobs in image
+//                                          pixels (Bayer too), windows as used, cap_hits per
+//                                          ColorClass value, processing_time.
+//   debug/classification sensor_msgs/Image  Lazily (only while subscribed, checked per frame):
+//                                          bgr8 colour-coded class of every pixel after
+//                                          illumination adaptation, at label resolution (the
+//                                          image size for bgr8/rgb8, half of it for Bayer: one
+//                                          label per 2x2 quad), same header as the image.
+//   debug/image_data_address std_msgs/UInt64MultiArray  Only with debug_report_data_pointer:
+//                                          [stamp.sec, stamp.nsec, address of the pixel
+//                                          buffer segmented] per frame, to prove that frames of
+//                                          the same manager arrive without a copy.
+//   /diagnostics       frame rate, processing time (mean/max per diagnostic period), regions
+//                      per class, cap hits, dropped frames by cause, colour-table state.
+// Services:
+//   ~calibrate         soccer_vision/Calibrate  New table from the latest frame (Bayer/rgb8:
+//                      converted to BGR for calibration) and sample polygons on it, with that
+//                      frame as the illumination reference; swapped in atomically and written
+//                      to a file when `save`. Failure: success false, the previous table stays.
+//   ~set_parameters    dynamic_reconfigure.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <boost/make_shared.hpp>
+#include <cv_bridge/cv_bridge.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <image_transport/image_transport.h>
+#include <nodelet/nodelet.h>
+#include <opencv2/imgproc.hpp>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
+#include <std_msgs/UInt64MultiArray.h>
+
+#include "soccer_vision/BlobArray.h"
+#include "soccer_vision/Calibrate.h"
+#include "soccer_vision/SearchWindows.h"
+#include "soccer_vision/SegmentationConfig.h"
+#include "soccer_vision/color_calibration.h"
+#include "soccer_vision/color_table.h"
+#include "soccer_vision/exchange_formats.h"
+#include "soccer_vision/frame_source.h"
+#include "soccer_vision/ros/blob_conversions.h"
+#include "soccer_vision/segmenter.h"
+
+namespace soccer_vision {
+
+namespace {
+
+SegmentationParams toSegmentationParams(const SegmentationConfig& c) {
+  SegmentationParams p;
+  p.illumination_k = c.illumination_k;
+  p.sharpen = c.sharpen;
+  p.regions.morph_kernel = c.morph_kernel;
+  p.regions.min_area = c.min_area;
+  p.regions.max_area = std::max(c.max_area, c.min_area);
+  p.regions.max_regions_per_class = c.max_regions_per_class;
+  p.regions.coverage_weighted_moments = c.coverage_weighted_moments;
+  return p;
+}
+
+// One line per class with samples: what calibration saw and decided.
+std::string summarizeTable(const ColorTable& table) {
+  const ColorTableStatistics& st = table.statistics();
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(1);
+  for (int c = 1; c < kNumColorClasses; ++c) {
+    const ClassStatistics& s = st.classes[c];
+    if (s.samples == 0) continue;
+    os << colorClassName(static_cast<ColorClass>(c)) << ": " << s.valid << "/" << s.samples
+       << " valid, Lab (" << s.mean_lab.l << ", " << s.mean_lab.a << ", " << s.mean_lab.b
+       << "), H " << s.mean_h << ", cells " << s.cells_assigned << "/" << s.cells_claimed
+       << "; ";
+  }
+  os << st.overlap_cells << " overlap cells decided by Bayes";
+  return os.str();
+}
+
+}  // namespace
+
+class SegmentationNodelet : public nodelet::Nodelet {
+ public:
+  SegmentationNodelet() = default;
+  ~SegmentationNodelet() override;
+
+ private:
+  void onInit() override;
+  void imageCallback(const sensor_msgs::ImageConstPtr& image);
+  void windowsCallback(const SearchWindowsConstPtr& windows);
+  void reconfigure(SegmentationConfig& config, uint32_t level);
+  bool calibrate(Calibrate::Request& req, Calibrate::Response& res);
+  void loaderLoop();
+  void requestLoad(const std::string& path);
+  std::vector<cv::Rect> searchWindows(const ros::Time& image_stamp);
+  void publishDebug(const sensor_msgs::ImageConstPtr& image, const cv::Mat& mat,
+                    PixelLayout layout, const SegmentationModel& model);
+  void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void dropFrame(std::uint64_t& counter);
+
+  std::shared_ptr<const SegmentationModel> model() {
+    std::lock_guard<std::mutex> lock(model_mutex_);
+    return model_;
+  }
+  void setModel(std::shared_ptr<const SegmentationModel> m, const std::string& source) {
+    {
+      std::lock_guard<std::mutex> lock(model_mutex_);
+      model_ = std::move(m);
+    }
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    table_source_ = source;
+    table_error_.clear();
+  }
+
+  // Parameters.
+  int camera_id_ = 0;
+  double window_max_age_ = 0.5;
+  bool report_data_pointer_ = false;
+
+  std::unique_ptr<image_transport::ImageTransport> it_;
+  image_transport::Subscriber image_sub_;
+  image_transport::Publisher debug_pub_;
+  ros::Subscriber windows_sub_;
+  ros::Publisher blobs_pub_, address_pub_;
+  ros::ServiceServer calibrate_srv_;
+
+  using ReconfigureServer = dynamic_reconfigure::Server<SegmentationConfig>;
+  std::unique_ptr<ReconfigureServer> reconfigure_server_;
+  boost::recursive_mutex reconfigure_mutex_;
+
+  // The current model (table + lookup + illumination reference): swapped as a whole.
+  std::mutex model_mutex_;
+  std::shared_ptr<const SegmentationModel> model_;
+
+  // Image callback (serialised by the subscription): the segmenter and its result buffer.
+  Segmenter segmenter_;
+  SegmentationResult result_;
+
+  // Set by reconfigure, applied by the image callback / read by ~calibrate.
+  std::mutex config_mutex_;
+  SegmentationParams params_;
+  bool params_changed_ = false;
+  double threshold_lab_ = 20.0, threshold_h_ = 15.0;
+  std::string color_table_path_;
+
+  // Latest received frame (for ~calibrate) and latest search windows.
+  std::mutex input_mutex_;
+  sensor_msgs::ImageConstPtr last_image_;
+  SearchWindowsConstPtr windows_;
+
+  // Background loading of colour-table files: the latest request wins.
+  std::thread loader_;
+  std::mutex load_mutex_;
+  std::condition_variable load_cv_;
+  std::optional<std::string> pending_load_;
+  bool stopping_ = false;
+  std::string requested_path_;  // reconfigure thread
+  std::atomic<bool> last_load_failed_{false};
+
+  // Diagnostics.
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diag_timer_;
+  std::mutex state_mutex_;
+  std::string table_source_;  // "" = no table yet
+  std::string table_error_;   // last load/calibration failure
+  ros::WallTime window_start_;
+  std::uint64_t frames_processed_ = 0, window_frames_ = 0;
+  double window_ms_sum_ = 0, window_ms_max_ = 0;
+  std::array<std::uint64_t, kNumColorClasses> window_regions_{};
+  std::array<std::uint64_t, kNumColorClasses> cap_hits_total_{};
+  std::uint64_t window_cap_hits_ = 0;
+  std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0,
+                dropped_error_ = 0;
+  std::uint64_t window_dropped_ = 0;
+  std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0;
+  std::string last_bad_encoding_;
+};
+
+SegmentationNodelet::~SegmentationNodelet() {
+  diag_timer_.stop();
+  {
+    std::lock_guard<std::mutex> lock(load_mutex_);
+    stopping_ = true;
+  }
+  load_cv_.notify_all();
+  if (loader_.joinable()) loader_.join();
+}
+
+void SegmentationNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+
+  pnh.param("camera_id", camera_id_, 0);
+  if (camera_id_ < 0 || camera_id_ > 255) {
+    NODELET_ERROR("camera_id %d out of range 0..255; using 0", camera_id_);
+    camera_id_ = 0;
+  }
+  pnh.param("search_window_max_age", window_max_age_, 0.5);
+  pnh.param("debug_report_data_pointer", report_data_pointer_, false);
+  int queue_size = 2;
+  pnh.param("queue_size", queue_size, 2);
+  queue_size = std::max(1, queue_size);
+
+  loader_ = std::thread(&SegmentationNodelet::loaderLoop, this);
+
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+  updater_->setHardwareID("camera " + std::to_string(camera_id_));
+  updater_->add("segmentation", this, &SegmentationNodelet::diagnostics);
+  window_start_ = ros::WallTime::now();
+  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5),
+                                   [this](const ros::WallTimerEvent&) { updater_->update(); });
+
+  // The reconfigure server reads the ~parameters and calls reconfigure() at once, which
+  // applies them and requests the load of ~color_table (in the background).
+  reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
+  reconfigure_server_->setCallback(
+      [this](SegmentationConfig& c, uint32_t level) { reconfigure(c, level); });
+  {
+    std::lock_guard<std::mutex> lock(config_mutex_);
+    segmenter_.setParams(params_);
+    params_changed_ = false;
+  }
+
+  blobs_pub_ = nh.advertise<BlobArray>("blobs", 5);
+  if (report_data_pointer_)
+    address_pub_ = nh.advertise<std_msgs::UInt64MultiArray>("debug/image_data_address", 20);
+  it_ = std::make_unique<image_transport::ImageTransport>(nh);
+  debug_pub_ = it_->advertise("debug/classification", 1);
+  windows_sub_ = nh.subscribe("search_windows", 2, &SegmentationNodelet::windowsCallback, this);
+  calibrate_srv_ = pnh.advertiseService("calibrate", &SegmentationNodelet::calibrate, this);
+  image_sub_ = it_->subscribe("image_raw", static_cast<uint32_t>(queue_size),
+                              &SegmentationNodelet::imageCallback, this,
+                              image_transport::TransportHints("raw", ros::TransportHints(), pnh));
+}
+
+void SegmentationNodelet::reconfigure(SegmentationConfig& config, uint32_t /*level*/) {
+  if (config.max_area < config.min_area) {
+    NODELET_ERROR("max_area %d < min_area %d; using max_area = min_area", config.max_area,
+                  config.min_area);
+    config.max_area = config.min_area;
+  }
+  {
+    std::lock_guard<std::mutex> lock(config_mutex_);
+    params_ = toSegmentationParams(config);
+    params_changed_ = true;
+    threshold_lab_ = config.threshold_lab;
+    threshold_h_ = config.threshold_h;
+    color_table_path_ = config.color_table;
+  }
+  // A new path, or the same one again after a failed load (the file may be fixed now).
+  if (config.color_table != requested_path_ || last_load_failed_) {
+    requested_path_ = config.color_table;
+    if (!config.color_table.empty()) {
+      requestLoad(config.color_table);
+    } else if (!model()) {
+      NODELET_WARN("no color_table given: frames are dropped until ~calibrate makes a table");
+    }
+  }
+}
+
+void SegmentationNodelet::requestLoad(const std::string& path) {
+  {
+    std::lock_guard<std::mutex> lock(load_mutex_);
+    pending_load_ = path;
+  }
+  load_cv_.notify_all();
+}
+
+void SegmentationNodelet::loaderLoop() {
+  std::unique_lock<std::mutex> lock(load_mutex_);
+  while (true) {
+    load_cv_.wait(lock, [this] { return stopping_ || pending_load_.has_value(); });
+    if (stopping_) return;
+    const std::string path = *pending_load_;
+    pending_load_.reset();
+    lock.unlock();
+    try {
+      auto table = std::make_shared<const ColorTable>(ColorTable::load(path));
+      // Costly (fills the lookup tables): built here, outside every lock, then swapped.
+      std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
+      setModel(std::move(m), "file " + path);
+      last_load_failed_ = false;
+      NODELET_INFO("colour table loaded from %s%s", path.c_str(),
+                   table->illuminationReference().empty() ? " (no illumination reference)" : "");
+    } catch (const std::exception& e) {
+      last_load_failed_ = true;
+      const bool have = static_cast<bool>(model());
+      NODELET_ERROR("cannot load color_table: %s; %s", e.what(),
+                    have ? "keeping the previous table" : "no table yet: frames are dropped");
+      std::lock_guard<std::mutex> state(state_mutex_);
+      table_error_ = e.what();
+    }
+    lock.lock();
+  }
+}
+
+void SegmentationNodelet::windowsCallback(const SearchWindowsConstPtr& windows) {
+  std::lock_guard<std::mutex> lock(input_mutex_);
+  windows_ = windows;
+}
+
+std::vector<cv::Rect> SegmentationNodelet::searchWindows(const ros::Time& image_stamp) {
+  SearchWindowsConstPtr w;
+  {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    w = windows_;
+  }
+  std::vector<cv::Rect> rects;
+  if (!w || w->global_search || w->camera_id != camera_id_) return rects;
+  if ((image_stamp - w->header.stamp).toSec() > window_max_age_) return rects;
+  rects.reserve(w->windows.size());
+  for (const auto& roi : w->windows) {
+    const cv::Rect r = fromRegionOfInterest(roi);
+    if (!r.empty()) rects.push_back(r);
+  }
+  return rects;  // empty (no usable window): whole frame
+}
+
+void SegmentationNodelet::dropFrame(std::uint64_t& counter) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  ++counter;
+  ++window_dropped_;
+}
+
+void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image) {
+  const std::optional<PixelLayout> layout = pixelLayoutForEncoding(image->encoding);
+  if (!layout) {
+    NODELET_ERROR_THROTTLE(5.0, "image_raw encoding '%s' is not supported (bgr8, rgb8, "
+                           "bayer_*8 are); frame dropped", image->encoding.c_str());
+    {
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      last_bad_encoding_ = image->encoding;
+    }
+    dropFrame(dropped_encoding_);
+    return;
+  }
+  const std::size_t bytes_per_pixel = isBayer(*layout) ? 1 : 3;
+  if (image->width == 0 || image->height == 0 ||
+      image->step < image->width * bytes_per_pixel ||
+      image->data.size() < static_cast<std::size_t>(image->step) * image->height ||
+      (isBayer(*layout) && (image->width % 2 != 0 || image->height % 2 != 0))) {
+    NODELET_ERROR_THROTTLE(5.0, "image_raw %ux%u %s with step %u and %zu data bytes is empty, "
+                           "truncated or inconsistent; frame dropped", image->width,
+                           image->height, image->encoding.c_str(), image->step,
+                           image->data.size());
+    dropFrame(dropped_bad_image_);
+    return;
+  }
+  cv_bridge::CvImageConstPtr cv;
+  try {
+    cv = cv_bridge::toCvShare(image);  // a view of the message buffer, no copy
+  } catch (const cv_bridge::Exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "cv_bridge: %s; frame dropped", e.what());
+    dropFrame(dropped_bad_image_);
+    return;
+  }
+  if (report_data_pointer_) {
+    auto report = boost::make_shared<std_msgs::UInt64MultiArray>();
+    report->data = {image->header.stamp.sec, image->header.stamp.nsec,
+                    static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(cv->image.data))};
+    address_pub_.publish(report);
+  }
+  {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    last_image_ = image;  // for ~calibrate
+  }
+  const std::shared_ptr<const SegmentationModel> m = model();
+  if (!m) {
+    NODELET_ERROR_THROTTLE(5.0, "no colour table yet (set color_table or call ~calibrate); "
+                           "frame dropped");
+    dropFrame(dropped_no_table_);
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(config_mutex_);
+    if (params_changed_) {
+      segmenter_.setParams(params_);
+      params_changed_ = false;
+    }
+  }
+  const std::vector<cv::Rect> windows = searchWindows(image->header.stamp);
+  try {
+    segmenter_.process(*m, cv->image, *layout, windows, result_);
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "segmentation failed: %s; frame dropped", e.what());
+    dropFrame(dropped_error_);
+    return;
+  }
+
+  auto blobs = boost::make_shared<BlobArray>();
+  toBlobArray(result_, image->header, camera_id_, static_cast<int>(image->width),
+              static_cast<int>(image->height), *blobs);
+  blobs_pub_.publish(blobs);  // never touched after this
+
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    ++frames_processed_;
+    ++window_frames_;
+    window_ms_sum_ += result_.timings.total_ms;
+    window_ms_max_ = std::max(window_ms_max_, result_.timings.total_ms);
+    for (const Region& r : result_.regions) ++window_regions_[static_cast<int>(r.color)];
+    for (int c = 0; c < kNumColorClasses; ++c) {
+      cap_hits_total_[c] += result_.cap_hits[c];
+      window_cap_hits_ += result_.cap_hits[c];
+    }
+    if (!result_.global_search) ++windowed_frames_;
+    if (result_.illumination_size_mismatch) ++illumination_mismatch_;
+  }
+  if (result_.illumination_size_mismatch)
+    NODELET_WARN_THROTTLE(30.0, "the colour table's illumination reference is for another "
+                          "image size: illumination adaptation is off");
+
+  if (debug_pub_.getNumSubscribers() > 0) publishDebug(image, cv->image, *layout, *m);
+}
+
+void SegmentationNodelet::publishDebug(const sensor_msgs::ImageConstPtr& image,
+                                       const cv::Mat& mat, PixelLayout layout,
+                                       const SegmentationModel& model) {
+  try {
+    const cv::Mat colors = colorizeLabels(classifyAll(model, mat, layout, segmenter_.params()));
+    cv_bridge::CvImage out(image->header, sensor_msgs::image_encodings::BGR8, colors);
+    debug_pub_.publish(out.toImageMsg());
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "debug/classification: %s", e.what());
+  }
+}
+
+bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response& res) {
+  res.success = false;
+  sensor_msgs::ImageConstPtr image;
+  {
+    std::lock_guard<std::mutex> lock(input_mutex_);
+    image = last_image_;
+  }
+  double threshold_lab, threshold_h;
+  std::string default_path;
+  {
+    std::lock_guard<std::mutex> lock(config_mutex_);
+    threshold_lab = req.threshold_lab > 0 ? req.threshold_lab : threshold_lab_;
+    threshold_h = req.threshold_h > 0 ? req.threshold_h : threshold_h_;
+    default_path = color_table_path_;
+  }
+  try {
+    if (!image) throw std::runtime_error("no frame received yet on " + image_sub_.getTopic());
+    const std::optional<PixelLayout> layout = pixelLayoutForEncoding(image->encoding);
+    if (!layout) throw std::runtime_error("latest frame has unsupported encoding " + image->encoding);
+    const cv::Mat mat = cv_bridge::toCvShare(image)->image;
+    cv::Mat bgr;  // calibration works on BGR: shared for bgr8, converted (copied) otherwise
+    if (*layout == PixelLayout::Bgr) {
+      bgr = mat;
+    } else if (*layout == PixelLayout::Rgb) {
+      cv::cvtColor(mat, bgr, cv::COLOR_RGB2BGR);
+    } else {
+      cv::cvtColor(mat, bgr, bayerToBgrCode(image->encoding));
+    }
+    const ColorSamples samples = parseColorSamples(req.samples_yaml, "samples_yaml");
+    if (samples.empty()) throw std::runtime_error("samples_yaml has no class with polygons");
+    const ClassPixels pixels = collectSamplePixels(bgr, samples);
+    for (const auto& entry : samples) {
+      const auto it = pixels.find(entry.first);
+      if (it == pixels.end() || it->second.empty())
+        throw std::runtime_error("the polygons of class '" +
+                                 std::string(colorClassName(entry.first)) +
+                                 "' select no pixel of the latest frame (" +
+                                 std::to_string(image->width) + "x" +
+                                 std::to_string(image->height) + ")");
+    }
+    ColorTableParams params;
+    params.threshold_lab = threshold_lab;
+    params.threshold_h = threshold_h;
+    params.validate();
+    // Table + illumination reference of this frame, then the lookup: outside every lock.
+    auto table = std::make_shared<const ColorTable>(
+        calibrateColorTable({CalibrationImage{bgr, samples}}, params));
+    std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
+    std::string source = "~calibrate on frame " + std::to_string(image->header.stamp.toSec());
+    if (req.save) {
+      const std::string path = req.path.empty() ? default_path : req.path;
+      if (path.empty()) throw std::runtime_error("save requested without path or color_table");
+      table->save(path);  // throws: the previous table stays
+      source += ", saved to " + path;
+    }
+    setModel(std::move(m), source);
+    last_load_failed_ = false;  // a failed color_table file is not retried over this table
+    res.success = true;
+    res.message = summarizeTable(*table);
+    NODELET_INFO("%s: %s", source.c_str(), res.message.c_str());
+  } catch (const std::exception& e) {
+    res.message = std::string("calibration failed, previous table kept: ") + e.what();
+    NODELET_ERROR("~calibrate: %s", res.message.c_str());
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    table_error_ = e.what();
+  }
+  return true;  // the outcome is in the response
+}
+
+void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const ros::WallTime now = ros::WallTime::now();
+  const double elapsed = std::max(1e-6, (now - window_start_).toSec());
+  if (table_source_.empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "no colour table" + (table_error_.empty() ? std::string(": set color_table or "
+                                                                         "call ~calibrate")
+                                                           : ": " + table_error_));
+  } else if (window_dropped_ > 0) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%lu frames dropped",
+                  static_cast<unsigned long>(window_dropped_));
+  } else if (window_cap_hits_ > 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "region cap hit");
+  } else if (window_frames_ == 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no frames");
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "segmenting");
+  }
+  stat.add("camera_id", camera_id_);
+  stat.add("colour table", table_source_.empty() ? "none" : table_source_);
+  if (!table_error_.empty()) stat.add("last table error", table_error_);
+  stat.add("frame rate [Hz]", window_frames_ / elapsed);
+  stat.add("processing time mean [ms]", window_frames_ ? window_ms_sum_ / window_frames_ : 0.0);
+  stat.add("processing time max [ms]", window_ms_max_);
+  for (int c = 1; c < kNumColorClasses; ++c) {
+    if (window_regions_[c] == 0 && cap_hits_total_[c] == 0) continue;
+    const std::string name(colorClassName(static_cast<ColorClass>(c)));
+    stat.add("regions per frame " + name,
+             window_frames_ ? static_cast<double>(window_regions_[c]) / window_frames_ : 0.0);
+    if (cap_hits_total_[c]) stat.add("cap hits (total) " + name, cap_hits_total_[c]);
+  }
+  stat.add("frames processed", frames_processed_);
+  stat.add("frames with search windows", windowed_frames_);
+  stat.add("dropped: unsupported encoding", dropped_encoding_);
+  if (!last_bad_encoding_.empty()) stat.add("last unsupported encoding", last_bad_encoding_);
+  stat.add("dropped: empty/truncated image", dropped_bad_image_);
+  stat.add("dropped: no colour table", dropped_no_table_);
+  stat.add("dropped: segmentation error", dropped_error_);
+  stat.add("illumination reference size mismatches", illumination_mismatch_);
+  window_start_ = now;
+  window_frames_ = 0;
+  window_ms_sum_ = window_ms_max_ = 0;
+  window_regions_.fill(0);
+  window_cap_hits_ = 0;
+  window_dropped_ = 0;
+}
+
+}  // namespace soccer_vision
+
+PLUGINLIB_EXPORT_CLASS(soccer_vision::SegmentationNodelet, nodelet::Nodelet)

@@ -1,0 +1,233 @@
+// calibrate_colors: the paper's offline colour calibration (§III-A) as a command. From one
+// or more calibration images and the DESIGN.md sample polygons on each, builds the colour
+// table (mean Lab / mean H per class, valid samples, HSV bodies, naive Bayes on overlaps),
+// attaches the illumination reference of the images (mean V per 32x32 block) and writes a
+// versioned .svct file for the Segmentation nodelet (parameter color_table).
+//
+//   rosrun soccer_vision calibrate_colors --image A.png [--image B.png ...]
+//       --samples samples.yaml [--samples ...] --out table.svct [--preview preview.png]
+//       [--threshold-lab X] [--threshold-h DEG] [--bins H,S,V]
+//
+// Images and samples files pair up in order; a single samples file applies to every image.
+// All images must have the same size (the illumination reference is per block).
+// Prints per class: sample and valid counts, mean Lab, mean H, thresholds, cells claimed by
+// its HSV body and held after the Bayes decisions, and the number of cells claimed by more
+// than one class. --preview writes the first image beside its colour-coded classification.
+// Exit status: 0 on success, 2 for bad arguments, unreadable/invalid inputs or an output that
+// cannot be written (with a message naming the problem).
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "soccer_vision/color_calibration.h"
+#include "soccer_vision/color_table.h"
+#include "soccer_vision/exchange_formats.h"
+#include "soccer_vision/segmenter.h"
+
+namespace sv = soccer_vision;
+
+namespace {
+
+struct Options {
+  std::vector<std::string> images;
+  std::vector<std::string> samples;
+  std::string out;
+  std::string preview;
+  sv::ColorTableParams params;
+};
+
+void usage() {
+  std::cerr << "usage: calibrate_colors --image A.png [--image B.png ...] --samples S.yaml "
+               "[--samples ...]\n"
+               "         --out TABLE.svct [--preview PREVIEW.png] [--threshold-lab X] "
+               "[--threshold-h DEG]\n"
+               "         [--bins H,S,V]\n"
+               "images and samples pair up in order; one samples file may serve every image\n";
+}
+
+double parseDouble(const std::string& option, const std::string& text) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty())
+    throw std::invalid_argument(option + " needs a number, got '" + text + "'");
+  return v;
+}
+
+Options parseArgs(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--image") {
+      o.images.push_back(value());
+    } else if (a == "--samples") {
+      o.samples.push_back(value());
+    } else if (a == "--out") {
+      o.out = value();
+    } else if (a == "--preview") {
+      o.preview = value();
+    } else if (a == "--threshold-lab") {
+      o.params.threshold_lab = parseDouble(a, value());
+    } else if (a == "--threshold-h") {
+      o.params.threshold_h = parseDouble(a, value());
+    } else if (a == "--bins") {
+      const std::string v = value();
+      std::vector<int> bins;
+      std::stringstream ss(v);
+      for (std::string part; std::getline(ss, part, ',');) {
+        const double b = parseDouble(a, part);
+        if (b != static_cast<int>(b)) throw std::invalid_argument("--bins takes integers: " + v);
+        bins.push_back(static_cast<int>(b));
+      }
+      if (bins.size() != 3) throw std::invalid_argument("--bins takes H,S,V, got '" + v + "'");
+      o.params.h_bins = bins[0];
+      o.params.s_bins = bins[1];
+      o.params.v_bins = bins[2];
+    } else if (a == "--help" || a == "-h") {
+      usage();
+      std::exit(0);
+    } else {
+      throw std::invalid_argument("unknown argument '" + a + "'");
+    }
+  }
+  if (o.images.empty()) throw std::invalid_argument("at least one --image is required");
+  if (o.samples.empty()) throw std::invalid_argument("at least one --samples is required");
+  if (o.samples.size() != 1 && o.samples.size() != o.images.size())
+    throw std::invalid_argument(std::to_string(o.images.size()) + " images but " +
+                                std::to_string(o.samples.size()) +
+                                " samples files: give one per image or one for all");
+  if (o.out.empty()) throw std::invalid_argument("--out is required");
+  o.params.validate();  // bins and thresholds in range (throws std::invalid_argument)
+  return o;
+}
+
+std::vector<sv::CalibrationImage> loadInputs(const Options& o) {
+  std::vector<sv::CalibrationImage> inputs;
+  std::vector<sv::ColorSamples> samples;
+  for (const std::string& path : o.samples) samples.push_back(sv::loadColorSamples(path));
+  for (std::size_t i = 0; i < o.images.size(); ++i) {
+    sv::CalibrationImage in;
+    in.bgr = cv::imread(o.images[i], cv::IMREAD_COLOR);
+    if (in.bgr.empty())
+      throw std::runtime_error("cannot read image '" + o.images[i] + "' (missing or not an image)");
+    if (!inputs.empty() && in.bgr.size() != inputs.front().bgr.size())
+      throw std::runtime_error("image '" + o.images[i] + "' is " + std::to_string(in.bgr.cols) +
+                               "x" + std::to_string(in.bgr.rows) + ", '" + o.images.front() +
+                               "' is " + std::to_string(inputs.front().bgr.cols) + "x" +
+                               std::to_string(inputs.front().bgr.rows) +
+                               ": calibration images must have one size");
+    in.samples = samples[samples.size() == 1 ? 0 : i];
+    if (in.samples.empty())
+      throw std::runtime_error("samples file '" + o.samples[samples.size() == 1 ? 0 : i] +
+                               "' has no polygons");
+    inputs.push_back(std::move(in));
+  }
+  return inputs;
+}
+
+// Every class given polygons must select pixels in at least one image (polygons outside the
+// images or too thin to contain a pixel centre are a mistake, not an empty class).
+void checkSamplesSelectPixels(const Options& o, const std::vector<sv::CalibrationImage>& inputs) {
+  std::map<sv::ColorClass, std::size_t> selected;
+  for (const sv::CalibrationImage& in : inputs) {
+    for (const auto& [cls, polygons] : in.samples) selected[cls] += 0;
+    for (const auto& [cls, px] : sv::collectSamplePixels(in.bgr, in.samples))
+      selected[cls] += px.size();
+  }
+  for (const auto& [cls, n] : selected) {
+    if (n == 0)
+      throw std::runtime_error("the polygons of class '" +
+                               std::string(sv::colorClassName(cls)) + "' in " +
+                               (o.samples.size() == 1 ? "'" + o.samples.front() + "'"
+                                                      : std::string("the samples files")) +
+                               " select no pixel of the image(s): outside the image or too "
+                               "thin to contain a pixel centre");
+  }
+}
+
+void printStatistics(const sv::ColorTable& table) {
+  const sv::ColorTableStatistics& st = table.statistics();
+  const sv::ColorTableParams& p = table.params();
+  std::printf("colour table: %d x %d x %d cells (H x S x V)\n", p.h_bins, p.s_bins, p.v_bins);
+  std::printf("%-10s %8s %8s %22s %7s %9s %7s %8s %8s\n", "class", "samples", "valid",
+              "mean Lab", "mean H", "thr Lab", "thr H", "claimed", "held");
+  for (int c = 1; c < sv::kNumColorClasses; ++c) {
+    const sv::ClassStatistics& s = st.classes[c];
+    if (s.samples == 0) continue;
+    char lab[64];
+    std::snprintf(lab, sizeof(lab), "(%.1f, %.1f, %.1f)", s.mean_lab.l, s.mean_lab.a,
+                  s.mean_lab.b);
+    char thr_h[16];
+    if (s.thresholds.h > 180)
+      std::snprintf(thr_h, sizeof(thr_h), "off");
+    else
+      std::snprintf(thr_h, sizeof(thr_h), "%.1f", s.thresholds.h);
+    std::printf("%-10s %8u %8u %22s %7.1f %9.1f %7s %8u %8u\n",
+                std::string(sv::colorClassName(static_cast<sv::ColorClass>(c))).c_str(),
+                s.samples, s.valid, lab, s.mean_h, s.thresholds.lab, thr_h, s.cells_claimed,
+                s.cells_assigned);
+    if (s.valid == 0)
+      std::printf("  warning: no valid sample for %s: it claims no cell (check its polygons "
+                  "or raise the thresholds)\n",
+                  std::string(sv::colorClassName(static_cast<sv::ColorClass>(c))).c_str());
+  }
+  std::printf("cells claimed by more than one class, decided by Bayes: %u\n", st.overlap_cells);
+}
+
+void writePreview(const std::string& path, const sv::ColorTable& table, const cv::Mat& bgr) {
+  const auto model = sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(table));
+  const cv::Mat labels = sv::classifyAll(*model, bgr, sv::PixelLayout::Bgr);
+  cv::Mat side_by_side;
+  cv::hconcat(bgr, sv::colorizeLabels(labels), side_by_side);
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path, side_by_side);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error("cannot write preview '" + path + "': " + e.what());
+  }
+  if (!ok) throw std::runtime_error("cannot write preview '" + path + "'");
+  std::printf("preview (image | classification): %s\n", path.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  try {
+    o = parseArgs(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "calibrate_colors: " << e.what() << "\n";
+    usage();
+    return 2;
+  }
+  try {
+    const std::vector<sv::CalibrationImage> inputs = loadInputs(o);
+    checkSamplesSelectPixels(o, inputs);
+    const sv::ColorTable table = sv::calibrateColorTable(inputs, o.params);
+    table.save(o.out);
+    std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(),
+                inputs.front().bgr.cols, inputs.front().bgr.rows);
+    printStatistics(table);
+    std::printf("written: %s\n", o.out.c_str());
+    if (!o.preview.empty()) writePreview(o.preview, table, inputs.front().bgr);
+  } catch (const std::exception& e) {
+    std::cerr << "calibrate_colors: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
