@@ -1,7 +1,8 @@
 // Colour calibration as the tool, the nodelet's ~calibrate service and the benchmark do
 // it: sample pixels from one or more BGR images and their sample polygons, the paper's
-// colour table from them, and the illumination reference (block means of V) of the same
-// images, so that run-time adaptation measures light changes against the calibration.
+// colour table from them, and the illumination reference of the same images (block means
+// of V and, normalised, block light levels), so that run-time adaptation measures light
+// changes against the calibration (illumination_adaptation.h).
 #pragma once
 
 #include <vector>
@@ -18,9 +19,20 @@ struct CalibrationImage {
   ColorSamples samples;   // polygons in this image's pixel coordinates
 };
 
+// How the table files the samples' V.
+enum class CalibrationLight {
+  // Normalised V (the default): each sample's V scaled by the mean light level over its
+  // block's level in its image, exactly as the run-time classification will scale it; the
+  // table keeps the levels. Markers are then recognised in light they were not seen in.
+  Normalized,
+  // V as captured, the paper's table; run-time adaptation is the paper's v + k·Δv.
+  AsCaptured,
+};
+
 // Throws std::invalid_argument for no images, images of different sizes or types, or
 // samples that select no pixel at all.
 ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images,
-                               const ColorTableParams& params = {});
+                               const ColorTableParams& params = {},
+                               CalibrationLight light = CalibrationLight::Normalized);
 
 }  // namespace soccer_vision

@@ -8,7 +8,7 @@
 //     its circular hue distance to the mean hue < threshold_h;
 //  3. each valid pixel falls into an HS cell; each HS cell records [Vmin, Vmax] of its
 //     valid pixels, and the class claims every (h, s, v) cell of that HS cell whose V bin
-//     lies between bin(Vmin) and bin(Vmax): a closed 3-D body in HSV;
+//     lies between bin(Vmin - v_margin) and bin(Vmax + v_margin): a closed 3-D body in HSV;
 //  4. a cell claimed by several classes goes to argmax_c p(c | h, s, v) of a Gaussian
 //     naive Bayes per class (independent H, S, V; means and variances of the valid
 //     pixels, circular for H; equal priors), evaluated at the cell centre.
@@ -32,9 +32,20 @@ namespace soccer_vision {
 // Sample pixels (BGR) per class, collected from one or more calibration images.
 using ClassPixels = std::map<ColorClass, std::vector<cv::Vec3b>>;
 
-// The pixels of a CV_8UC3 BGR image whose centre lies inside one of a class's polygons
-// (pixel (u, v) has its centre at (u, v)); a pixel inside several polygons of the same
-// class is taken once. Throws std::invalid_argument for an image of another type.
+// A sample pixel and the V under which the table files it: the V the run-time
+// classification will look up for it (its V brought to the reference illumination, see
+// illumination_adaptation.h); max(b, g, r) for a pixel taken as it is.
+struct SamplePixel {
+  cv::Vec3b bgr;
+  std::uint8_t v = 0;
+};
+using ClassSamplePixels = std::map<ColorClass, std::vector<SamplePixel>>;
+
+// The pixels of an image of `image_size` whose centre lies inside one of a class's
+// polygons (pixel (u, v) has its centre at (u, v)); a pixel inside several polygons of the
+// same class is taken once.
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size, const ColorSamples& samples);
+// Their colours in a CV_8UC3 BGR image. Throws std::invalid_argument for another type.
 ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples);
 
 struct ClassThresholds {
@@ -58,6 +69,11 @@ struct ColorTableParams {
   // is about half the smallest hue gap between the paper's marker colours.
   double threshold_lab = 20.0;
   double threshold_h = 15.0;
+  // Tolerance added below Vmin and above Vmax of each HS cell, 8-bit V units (0 = the
+  // paper's body). One frame shows each role colour on about two markers, so the V range
+  // a cell saw is narrower than what the same colour shows elsewhere on the field after
+  // illumination normalisation (estimation error of the block's light, sensor noise).
+  int v_margin = 8;  // by measurement: 4 leaves yellow/green misses on uneven_drift, 16 adds background false positives under noise
   // Per-class thresholds that replace the two above, e.g. no hue test for greys.
   std::map<ColorClass, ClassThresholds> overrides = {
       {ColorClass::Line, {20.0, 360.0}},      // white: hue is noise
@@ -94,17 +110,31 @@ struct ColorTableStatistics {
 class ColorTable {
  public:
   // Version of the `.svct` layout this build writes and reads.
-  static constexpr std::uint32_t kFormatVersion = 2;
+  static constexpr std::uint32_t kFormatVersion = 3;
 
   // Builds the table from sample pixels. Throws std::invalid_argument for bad parameters
   // or samples given for ColorClass::None (the background without samples).
   static ColorTable build(const ClassPixels& samples, const ColorTableParams& params = {});
+  // The same from samples with their V given: H and S come from the pixel, V from
+  // SamplePixel::v, and the L*a*b* validity test sees the pixel scaled to that V.
+  static ColorTable buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params = {});
 
-  // The paper's classification: table[bin(H)][bin(S)][bin(clamp(V + v_offset, 0, 255))].
-  // v_offset is the illumination adaptation k·Δv, rounded.
-  ColorClass classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset = 0) const {
+  // Unit gain of adjustedV: gains are fixed point with 8 fractional bits.
+  static constexpr int kUnitGain = 256;
+  // V as the table reads it under a block's illumination adjustment (illumination_adaptation.h):
+  // clamp(((v * gain + 128) >> 8) + offset, 0, 255), i.e. v scaled by gain / 256 (rounded
+  // half up), then shifted. The paper's adaptation is gain = kUnitGain, offset = k·Δv.
+  // v in 0..255, gain in 0..65535, |offset| <= 65535.
+  static int adjustedV(int v, int offset, int gain = kUnitGain) {
+    const int adjusted = ((v * gain + 128) >> 8) + offset;
+    return adjusted < 0 ? 0 : adjusted > 255 ? 255 : adjusted;
+  }
+  // The classification: table[bin(H)][bin(S)][bin(adjustedV(V, v_offset, v_gain))].
+  // With the unit gain it is the paper's table[bin(H)][bin(S)][bin(clamp(V + v_offset))].
+  ColorClass classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset = 0,
+                      int v_gain = kUnitGain) const {
     const Hsv hsv = bgrToHsv(b, g, r);
-    return classifyHsv(hsv.h, hsv.s, hsv.v + v_offset);
+    return classifyHsv(hsv.h, hsv.s, adjustedV(static_cast<int>(hsv.v), v_offset, v_gain));
   }
   // h in degrees (any value: wrapped into [0, 360)), s clamped to [0, 1], v to [0, 255].
   ColorClass classifyHsv(double h, double s, double v) const {
@@ -129,9 +159,19 @@ class ColorTable {
   // This table with that reference (copied). Throws std::invalid_argument unless it is
   // empty or a CV_32FC1 of finite values.
   ColorTable withIlluminationReference(cv::Mat reference) const;
+  // Carpet light level per 32x32 block of the calibration images (blockLightLevels in
+  // illumination_adaptation.h). When present, the table's V axis is *normalised* V: the
+  // samples were filed under V scaled to the mean level of this map, and the run-time
+  // classification scales each block's V by that mean over the block's current level.
+  // Empty: V as captured (the paper's table).
+  const cv::Mat& illuminationLevels() const { return illumination_levels_; }
+  // This table with those levels (copied). Throws std::invalid_argument unless they are
+  // empty or a CV_32FC1 of finite positive values.
+  ColorTable withIlluminationLevels(cv::Mat levels) const;
 
   // `.svct` file: magic, format version, file size, parameters, statistics, cells,
-  // illumination reference, CRC-32.
+  // illumination reference and levels, CRC-32. Version 2 files (no v_margin, no levels)
+  // are still read.
   // save throws std::runtime_error when the file cannot be written; load throws
   // std::runtime_error naming the file and the problem (missing file, wrong magic,
   // unsupported version, truncated, checksum mismatch, inconsistent content).
@@ -145,6 +185,7 @@ class ColorTable {
   ColorTableStatistics stats_;
   std::vector<ColorClass> cells_;
   cv::Mat illumination_reference_;
+  cv::Mat illumination_levels_;
 };
 
 }  // namespace soccer_vision

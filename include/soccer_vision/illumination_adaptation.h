@@ -1,6 +1,17 @@
-// The paper's adaptive illumination (§III-B): the image is split into 32x32 blocks; the
-// reference mean V of each block comes from the calibration images; at run time
-// Δv = v_ref - v_now per block and v' = v + k·Δv before the table lookup (k = 0.3).
+// Block-wise illumination adaptation, in two modes chosen by the colour table:
+//
+//  * the paper's (§III-B), for tables of V as captured: the image is split into 32x32
+//    blocks; the reference mean V of each block comes from the calibration images; at run
+//    time Δv = v_ref - v_now per block and v' = v + k·Δv before the table lookup (k = 0.3);
+//  * normalised V, for tables with illumination levels (the default calibration): the light
+//    level L(b) of each block is measured on the carpet, and every V is scaled by
+//    L_mean / L(b), at calibration with the calibration image's levels and at run time
+//    with the current frame's. A marker then shows the same V wherever it moves and
+//    whatever the global light does, which the paper's mode cannot give: its reference only
+//    follows a change in time at a fixed place (not a robot moving into darker light), its
+//    additive offset follows the carpet's V and so under-corrects bright markers under a
+//    multiplicative change, and its plain block mean drops when a black robot enters the
+//    block.
 #pragma once
 
 #include <vector>
@@ -20,26 +31,61 @@ namespace soccer_vision {
 // not fit the layout or sample_step < 1.
 cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step = 1);
 
+// Light level per block: the mean V of the read pixels (as blockMeanV reads them) whose V
+// lies within [kLevelBandLow, kLevelBandHigh] x expected(b), i.e. the carpet, leaving out
+// robot tops (far darker), lines and most markers (far brighter). A block where fewer than
+// kMinLevelFraction of the read pixels fall in the band (covered by robots) gets
+// expected(b) x the median of level / expected over the other blocks (x 1 when there are
+// none). `expected`: CV_32FC1 of the image's block grid, positive. Throws
+// std::invalid_argument like blockMeanV, or for `expected` of another size or type.
+constexpr double kLevelBandLow = 0.7, kLevelBandHigh = 1.4, kMinLevelFraction = 0.25;
+cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step = 1);
+// Expected levels for an image without prior knowledge (calibration): per block the
+// median over its 5x5 neighbourhood of the blocks' median V, which robots (about one
+// block in size) and lines cannot take over.
+cv::Mat expectedLightLevels(const cv::Mat& image, PixelLayout layout);
+
 class IlluminationAdaptation {
  public:
-  // Reference from one or more calibration images of the same size (mean of their block
-  // means). Throws std::invalid_argument for no images or different sizes.
+  // Reference from one or more calibration images of the same size: the mean of their
+  // block means, and the mean of their light levels (blockLightLevels with
+  // expectedLightLevels). Throws std::invalid_argument for no images or different sizes.
   static IlluminationAdaptation fromImages(const std::vector<cv::Mat>& images, PixelLayout layout);
   IlluminationAdaptation() = default;  // no reference: offsets are zero
-  explicit IlluminationAdaptation(cv::Mat reference_means) : reference_(std::move(reference_means)) {}
+  // Means for the paper's mode; levels (optional) select the normalised mode.
+  explicit IlluminationAdaptation(cv::Mat reference_means, cv::Mat reference_levels = {})
+      : reference_(std::move(reference_means)), levels_(std::move(reference_levels)) {}
 
   const cv::Mat& reference() const { return reference_; }
   bool hasReference() const { return !reference_.empty(); }
+  const cv::Mat& referenceLevels() const { return levels_; }
+  bool normalizes() const { return !levels_.empty(); }
 
-  // Offsets round(k * (v_ref - v_now)) per block for this frame (std::lround: half away
-  // from zero), clamped to ±max_offset (0..255, else std::invalid_argument). Zero offsets
-  // (an empty BlockOffsets) when k == 0, without a reference, or for a frame of another
-  // block grid size (reported through `size_mismatch`).
+  // Gains round(256 * L_mean / level(b)) per block (L_mean: mean of the reference levels),
+  // clamped to [kUnitGain / 8, 8 * kUnitGain]: they bring V under these levels to V under
+  // the reference's mean level. Empty when not normalizing. Throws std::invalid_argument
+  // for levels of another size or type than the reference levels.
+  BlockOffsets gainsFor(const cv::Mat& levels) const;
+
+  // The adjustment of this frame's blocks.
+  // Normalised mode: gainsFor(the frame's levels), measured by blockLightLevels every
+  //   sample_step-th row and column around the reference levels times the global change
+  //   (the median ratio of the blocks' mean V to the reference means, read at twice the
+  //   step); k == 0: gainsFor(reference levels), the light as calibrated (no adaptation).
+  // Paper's mode: offsets round(k * (v_ref - v_now)) per block (std::lround: half away
+  //   from zero), clamped to ±max_offset; zero offsets (an empty BlockOffsets) when k == 0
+  //   or without a reference.
+  // Both: an empty BlockOffsets for a frame of another block grid size (reported through
+  // `size_mismatch`); max_offset must be in 0..255, else std::invalid_argument.
   BlockOffsets offsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
                        int max_offset = 64, bool* size_mismatch = nullptr) const;
 
  private:
+  BlockOffsets paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step, int max_offset) const;
+  cv::Mat currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step) const;
+
   cv::Mat reference_;
+  cv::Mat levels_;
 };
 
 }  // namespace soccer_vision

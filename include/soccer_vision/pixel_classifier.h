@@ -1,9 +1,10 @@
 // The fast path of the colour table: classifies pixels straight from the camera's
-// encoding (bgr8, rgb8, Bayer mosaics without demosaicing), with the paper's block-wise
-// illumination adaptation folded into the lookup, and optional Laplacian sharpening of V.
-// Every result equals ColorTable::classify(b, g, r, v_offset) (plus the sharpening term
-// when enabled) for that pixel: the tables here are a re-indexing of the colour table,
-// never an approximation of it.
+// encoding (bgr8, rgb8, Bayer mosaics without demosaicing), with the block-wise
+// illumination adjustment (a gain and an offset per block) folded into the lookup, and
+// optional Laplacian sharpening of V. Every result equals
+// ColorTable::classify(b, g, r, v_offset, v_gain) (plus the sharpening term when enabled)
+// for that pixel: the tables here are a re-indexing of the colour table, never an
+// approximation of it.
 //
 // Label resolution: one label per image pixel for bgr8/rgb8; one label per 2x2 Bayer quad
 // (its R, the mean of its two G rounded half up: (G1 + G2 + 1) >> 1, its B) for Bayer
@@ -13,7 +14,8 @@
 //   L(x, y)  = V(x-1, y) + V(x+1, y) + V(x, y-1) + V(x, y+1) - 4 V(x, y), with coordinates
 //              outside the label image replaced by the nearest inside (border replicated);
 //   V_s      = clamp(V - lround(sharpen * L), 0, 255)   (lround: half away from zero);
-//   class    = table.classifyHsv(H, S, V_s + offset)     (H, S of the pixel itself),
+//   class    = table.classifyHsv(H, S, ColorTable::adjustedV(V_s, offset, gain))
+//              (H, S of the pixel itself),
 // i.e. ColorTable::classify with V replaced by V_s. sharpen = 0 is exactly the table.
 #pragma once
 
@@ -58,11 +60,15 @@ using ClassMask = std::uint32_t;
 constexpr ClassMask classBit(ColorClass c) { return ClassMask(1) << static_cast<int>(c); }
 ClassMask markerClassMask();  // Blue .. Orange
 
-// Per 32x32-pixel block of the image (the paper's blocks), the V offset round(k * Δv)
-// added before the lookup. CV_16SC1 of ceil(h/32) x ceil(w/32); empty = all zero.
+// Per 32x32-pixel block of the image (the paper's blocks), the illumination adjustment of
+// V before the lookup: V' = ColorTable::adjustedV(V, offset, gain). Each a matrix of
+// ceil(h/32) x ceil(w/32) blocks or empty. `offsets`: CV_16SC1, the paper's round(k * Δv);
+// empty = all zero. `gains`: CV_16UC1, fixed point (ColorTable::kUnitGain = 1), the
+// normalised-V scale; empty = all unit.
 struct BlockOffsets {
   static constexpr int kBlockSize = 32;  // image pixels
   cv::Mat offsets;
+  cv::Mat gains;
 };
 
 // Immutable after construction: shared by threads, swapped atomically as a whole.
@@ -75,8 +81,10 @@ class PixelClassifier {
   const ColorTable& table() const { return *table_; }
   std::shared_ptr<const ColorTable> tableShared() const { return table_; }
 
-  // One colour (b, g, r) with a V offset; equals table().classify(b, g, r, v_offset).
-  ColorClass classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset) const;
+  // One colour (b, g, r) with a V offset and gain; equals
+  // table().classify(b, g, r, v_offset, v_gain).
+  ColorClass classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset,
+                      int v_gain = ColorTable::kUnitGain) const;
 
  private:
   friend class FrameClassifier;
@@ -91,8 +99,9 @@ class FrameClassifier {
   // `image` and `classifier` must stay alive and unchanged while this object is used
   // (`offsets` is shared, not copied: leave it unchanged too). Throws
   // std::invalid_argument when its type does not fit the layout (CV_8UC3 for Bgr/Rgb,
-  // CV_8UC1 with even width and height for Bayer), when `offsets` is neither empty nor a
-  // CV_16SC1 of the image's block grid, or when sharpen < 0.
+  // CV_8UC1 with even width and height for Bayer), when `offsets.offsets` or
+  // `offsets.gains` is neither empty nor of its type (CV_16SC1, CV_16UC1) on the image's
+  // block grid, or when sharpen < 0.
   FrameClassifier(const PixelClassifier& classifier, const cv::Mat& image, PixelLayout layout,
                   const BlockOffsets& offsets, double sharpen = 0.0);
 
@@ -110,14 +119,14 @@ class FrameClassifier {
   // Colour of a label pixel as classified (BGR; a Bayer quad's R, mean G, B), for
   // sub-pixel weighting of region edges.
   cv::Vec3b colorAt(int x, int y) const;
-  // V (max channel) of a label pixel as looked up: sharpened (when enabled), plus the
-  // illumination offset, clamped to 0..255. For debugging/tests.
+  // V (max channel) of a label pixel as looked up: sharpened (when enabled), then
+  // adjusted by its block's gain and offset (ColorTable::adjustedV). For debugging/tests.
   int adaptedV(int x, int y) const;
 
  private:
   int sharpenedV(int x, int y) const;
   void classifySharpened(const cv::Rect& rect, cv::Mat& out) const;
-  int offsetAt(int x, int y) const;
+  int adjustedVAt(int x, int y, int v) const;
   void checkRect(const cv::Rect& rect) const;
 
   const PixelClassifier& classifier_;
@@ -125,6 +134,7 @@ class FrameClassifier {
   PixelLayout layout_;
   cv::Size label_size_;
   cv::Mat offsets_;   // CV_16SC1 per block (shares the caller's data); zeros when none given
+  cv::Mat gains_;     // CV_16UC1 per block (shares the caller's data); unit when none given
   int block_shift_;   // log2 of the block side in label pixels: 32 image pixels
   std::vector<std::int16_t> sharpen_terms_;  // lround(sharpen * L) for L = -1020 .. 1020; empty: off
 };

@@ -18,9 +18,12 @@
 namespace soccer_vision {
 
 struct SegmentationParams {
-  double illumination_k = 0.3;        // the paper's k; 0 disables the adaptation
-  int illumination_sample_step = 4;   // read every n-th row/column of a block for its mean V
-  int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units
+  // Illumination adaptation (illumination_adaptation.h), in the table's mode. 0 disables
+  // it (normalised tables: the light as calibrated); otherwise the paper's k for tables of
+  // V as captured, while normalised tables measure every frame's block light levels.
+  double illumination_k = 0.3;
+  int illumination_sample_step = 4;   // read every n-th row/column of a block for its mean V / level
+  int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units (paper's mode)
   double sharpen = 0.0;               // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
   RegionParams regions;
 };

@@ -1,5 +1,6 @@
 #include "soccer_vision/color_calibration.h"
 
+#include <algorithm>
 #include <iterator>
 #include <stdexcept>
 
@@ -7,26 +8,46 @@
 
 namespace soccer_vision {
 
-ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, const ColorTableParams& params) {
+ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, const ColorTableParams& params,
+                               CalibrationLight light) {
   if (images.empty()) throw std::invalid_argument("colour calibration needs at least one image");
-  ClassPixels pixels;
   std::vector<cv::Mat> bgr;
   for (const auto& image : images) {
     if (image.bgr.type() != CV_8UC3) throw std::invalid_argument("colour calibration needs bgr8 images");
     if (image.bgr.size() != images.front().bgr.size()) {
       throw std::invalid_argument("calibration images must all have the same size");
     }
-    for (auto& [cls, px] : collectSamplePixels(image.bgr, image.samples)) {
-      auto& all = pixels[cls];
-      all.insert(all.end(), px.begin(), px.end());
-    }
     bgr.push_back(image.bgr);
+  }
+  const IlluminationAdaptation reference = IlluminationAdaptation::fromImages(bgr, PixelLayout::Bgr);
+  const bool normalized = light == CalibrationLight::Normalized;
+
+  ClassSamplePixels pixels;
+  for (const auto& image : images) {
+    // Each image's samples under that image's own light: with several images taken at
+    // different times, each is normalised by what its blocks showed.
+    const BlockOffsets adjustment =
+        normalized ? reference.gainsFor(blockLightLevels(image.bgr, PixelLayout::Bgr,
+                                                         expectedLightLevels(image.bgr, PixelLayout::Bgr)))
+                   : BlockOffsets{};
+    for (const auto& [cls, positions] : samplePixelPositions(image.bgr.size(), image.samples)) {
+      auto& all = pixels[cls];
+      for (const cv::Point& p : positions) {
+        const cv::Vec3b c = image.bgr.at<cv::Vec3b>(p);
+        const int v = std::max({c[0], c[1], c[2]});
+        const int gain = normalized ? adjustment.gains.at<std::uint16_t>(p.y / BlockOffsets::kBlockSize,
+                                                                          p.x / BlockOffsets::kBlockSize)
+                                    : ColorTable::kUnitGain;
+        all.push_back({c, static_cast<std::uint8_t>(ColorTable::adjustedV(v, 0, gain))});
+      }
+    }
   }
   // Polygons outside the image or smaller than a pixel leave a class with no pixel.
   for (auto it = pixels.begin(); it != pixels.end();) it = it->second.empty() ? pixels.erase(it) : std::next(it);
   if (pixels.empty()) throw std::invalid_argument("the sample polygons select no pixel");
-  return ColorTable::build(pixels, params)
-      .withIlluminationReference(IlluminationAdaptation::fromImages(bgr, PixelLayout::Bgr).reference());
+  return ColorTable::buildFromSamplePixels(pixels, params)
+      .withIlluminationReference(reference.reference())
+      .withIlluminationLevels(normalized ? reference.referenceLevels() : cv::Mat());
 }
 
 }  // namespace soccer_vision

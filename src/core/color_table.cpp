@@ -30,6 +30,15 @@ bool centreInside(const Polygon& poly, double x, double y) {
 
 // ---------------------------------------------------------------- construction
 
+// The pixel with its channels scaled so that its V becomes `to` (rounded, saturated): the
+// colour it would show under the light its adapted V stands for.
+cv::Vec3b scaledToV(const cv::Vec3b& p, int from, int to) {
+  if (from == to || from == 0) return p;
+  const double f = static_cast<double>(to) / from;
+  return {cv::saturate_cast<std::uint8_t>(p[0] * f), cv::saturate_cast<std::uint8_t>(p[1] * f),
+          cv::saturate_cast<std::uint8_t>(p[2] * f)};
+}
+
 double circularMeanDegrees(const std::vector<Hsv>& pixels) {
   double sx = 0, sy = 0;
   for (const Hsv& p : pixels) {
@@ -188,6 +197,28 @@ void writeClassStatistics(ByteWriter& w, const ClassStatistics& st) {
   }
 }
 
+// A per-block map (CV_32FC1): u32 rows, cols, f32 values row by row; 0 x 0: none.
+void writeBlockMap(ByteWriter& w, const cv::Mat& map) {
+  w.u32(static_cast<std::uint32_t>(map.rows));
+  w.u32(static_cast<std::uint32_t>(map.cols));
+  for (int y = 0; y < map.rows; ++y) {
+    for (int x = 0; x < map.cols; ++x) w.f32(map.at<float>(y, x));
+  }
+}
+
+cv::Mat readBlockMap(ByteReader& r, std::size_t body_end, const std::string& what) {
+  const std::uint32_t rows = r.u32(), cols = r.u32();
+  if ((rows == 0) != (cols == 0) || static_cast<std::uint64_t>(rows) * cols > (body_end - r.position()) / 4) {
+    r.fail("inconsistent sizes (" + what + " of " + std::to_string(rows) + " x " + std::to_string(cols) + " blocks)");
+  }
+  cv::Mat map(static_cast<int>(rows), static_cast<int>(cols), CV_32FC1);
+  for (int y = 0; y < map.rows; ++y) {
+    for (int x = 0; x < map.cols; ++x) map.at<float>(y, x) = r.f32();
+  }
+  if (!map.empty() && !cv::checkRange(map)) r.fail("inconsistent content (" + what + " is not finite)");
+  return map;
+}
+
 ClassStatistics readClassStatistics(ByteReader& r) {
   ClassStatistics st;
   st.samples = r.u32();
@@ -204,10 +235,9 @@ ClassStatistics readClassStatistics(ByteReader& r) {
 
 }  // namespace
 
-ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples) {
-  if (bgr.type() != CV_8UC3) throw std::invalid_argument("collectSamplePixels: image must be CV_8UC3 (BGR)");
-  ClassPixels out;
-  cv::Mat1b taken(bgr.size());
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size, const ColorSamples& samples) {
+  std::map<ColorClass, std::vector<cv::Point>> out;
+  cv::Mat1b taken(image_size);
   for (const auto& [color, polygons] : samples) {
     taken.setTo(0);
     auto& pixels = out[color];
@@ -221,19 +251,30 @@ ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples)
         y1 = std::max(y1, p.y());
       }
       // Clamped as doubles: polygons far outside the image must not overflow an int.
-      const int u0 = static_cast<int>(std::clamp(std::ceil(x0), 0.0, static_cast<double>(bgr.cols)));
-      const int u1 = static_cast<int>(std::clamp(std::floor(x1), -1.0, bgr.cols - 1.0));
-      const int v0 = static_cast<int>(std::clamp(std::ceil(y0), 0.0, static_cast<double>(bgr.rows)));
-      const int v1 = static_cast<int>(std::clamp(std::floor(y1), -1.0, bgr.rows - 1.0));
+      const int u0 = static_cast<int>(std::clamp(std::ceil(x0), 0.0, static_cast<double>(image_size.width)));
+      const int u1 = static_cast<int>(std::clamp(std::floor(x1), -1.0, image_size.width - 1.0));
+      const int v0 = static_cast<int>(std::clamp(std::ceil(y0), 0.0, static_cast<double>(image_size.height)));
+      const int v1 = static_cast<int>(std::clamp(std::floor(y1), -1.0, image_size.height - 1.0));
       for (int v = v0; v <= v1; ++v) {
         for (int u = u0; u <= u1; ++u) {
           if (!taken(v, u) && centreInside(poly, u, v)) {
             taken(v, u) = 1;
-            pixels.push_back(bgr.at<cv::Vec3b>(v, u));
+            pixels.emplace_back(u, v);
           }
         }
       }
     }
+  }
+  return out;
+}
+
+ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples) {
+  if (bgr.type() != CV_8UC3) throw std::invalid_argument("collectSamplePixels: image must be CV_8UC3 (BGR)");
+  ClassPixels out;
+  for (const auto& [color, positions] : samplePixelPositions(bgr.size(), samples)) {
+    auto& pixels = out[color];
+    pixels.reserve(positions.size());
+    for (const cv::Point& p : positions) pixels.push_back(bgr.at<cv::Vec3b>(p));
   }
   return out;
 }
@@ -248,6 +289,7 @@ void ColorTableParams::validate() const {
   if (h_bins < 1 || h_bins > 720) fail("h_bins must be in 1..720, got " + std::to_string(h_bins));
   if (s_bins < 1 || s_bins > 256) fail("s_bins must be in 1..256, got " + std::to_string(s_bins));
   if (v_bins < 1 || v_bins > 256) fail("v_bins must be in 1..256, got " + std::to_string(v_bins));
+  if (v_margin < 0 || v_margin > 255) fail("v_margin must be in 0..255, got " + std::to_string(v_margin));
   auto check = [&](const ClassThresholds& t, const std::string& who) {
     if (!(t.lab > 0) || !(t.h > 0)) fail(who + ": thresholds must be positive");
   };
@@ -273,6 +315,16 @@ int ColorTable::vBin(double v) const {
 }
 
 ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams& params) {
+  ClassSamplePixels as_taken;
+  for (const auto& [color, pixels] : samples) {
+    auto& out = as_taken[color];
+    out.reserve(pixels.size());
+    for (const cv::Vec3b& p : pixels) out.push_back({p, std::max({p[0], p[1], p[2]})});
+  }
+  return buildFromSamplePixels(as_taken, params);
+}
+
+ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params) {
   params.validate();
   ColorTable table;
   table.params_ = params;
@@ -299,8 +351,10 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
     std::vector<Lab> lab;
     hsv.reserve(pixels.size());
     lab.reserve(pixels.size());
-    for (const cv::Vec3b& p : pixels) {
-      hsv.push_back(bgrToHsv(p[0], p[1], p[2]));
+    for (const SamplePixel& sample : pixels) {
+      hsv.push_back(bgrToHsv(sample.bgr[0], sample.bgr[1], sample.bgr[2]));
+      const cv::Vec3b p = scaledToV(sample.bgr, static_cast<int>(hsv.back().v), sample.v);
+      hsv.back().v = sample.v;
       lab.push_back(bgrToLab(p[0], p[1], p[2]));
       st.mean_lab.l += lab.back().l;
       st.mean_lab.a += lab.back().a;
@@ -331,7 +385,7 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
     const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));
     for (std::size_t hs = 0; hs < hs_cells; ++hs) {
       if (v_max[hs] < v_min[hs]) continue;
-      for (int vb = table.vBin(v_min[hs]); vb <= table.vBin(v_max[hs]); ++vb) {
+      for (int vb = table.vBin(v_min[hs] - params.v_margin); vb <= table.vBin(v_max[hs] + params.v_margin); ++vb) {
         claims[hs * v_bins + vb] |= bit;
         ++st.cells_claimed;
       }
@@ -368,6 +422,15 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
   return table;
 }
 
+ColorTable ColorTable::withIlluminationLevels(cv::Mat levels) const {
+  if (!levels.empty() && (levels.type() != CV_32FC1 || levels.dims != 2 || !cv::checkRange(levels, true, nullptr, 1e-3, 1e6))) {
+    throw std::invalid_argument("colour table: the illumination levels must be a CV_32FC1 of finite positive levels");
+  }
+  ColorTable table = *this;
+  table.illumination_levels_ = levels.empty() ? cv::Mat() : levels.clone();
+  return table;
+}
+
 ColorTable ColorTable::withIlluminationReference(cv::Mat reference) const {
   if (!reference.empty() && (reference.type() != CV_32FC1 || reference.dims != 2 || !cv::checkRange(reference))) {
     throw std::invalid_argument("colour table: the illumination reference must be a CV_32FC1 of finite block means");
@@ -379,11 +442,13 @@ ColorTable ColorTable::withIlluminationReference(cv::Mat reference) const {
 
 // Layout (little-endian):
 //   magic[8] | u32 version | u64 file size | u32 class count | u32 h_bins, s_bins, v_bins |
-//   f64 threshold_lab, threshold_h | u32 override count, {u8 class, f64 lab, f64 h}... |
+//   f64 threshold_lab, threshold_h | u32 v_margin (since version 3) |
+//   u32 override count, {u8 class, f64 lab, f64 h}... |
 //   u32 overlap cells | per class: u32 samples, valid, cells claimed, cells assigned,
 //   f64 mean L a b, mean h, threshold lab, threshold h, mean h valid, var h, mean s,
 //   var s, mean v, var v | u64 cell count, u8 cells... | u32 illumination reference rows,
-//   cols, f32 block means row by row (0 x 0: none) | u32 CRC-32 of all bytes before it
+//   cols, f32 block means row by row (0 x 0: none) | illumination levels, the same way
+//   (since version 3) | u32 CRC-32 of all bytes before it
 void ColorTable::save(const std::string& path) const {
   ByteWriter w;
   w.bytes(kMagic, sizeof kMagic);
@@ -395,6 +460,7 @@ void ColorTable::save(const std::string& path) const {
   w.u32(static_cast<std::uint32_t>(params_.v_bins));
   w.f64(params_.threshold_lab);
   w.f64(params_.threshold_h);
+  w.u32(static_cast<std::uint32_t>(params_.v_margin));
   w.u32(static_cast<std::uint32_t>(params_.overrides.size()));
   for (const auto& [c, t] : params_.overrides) {
     w.u8(static_cast<std::uint8_t>(c));
@@ -405,11 +471,8 @@ void ColorTable::save(const std::string& path) const {
   for (const ClassStatistics& st : stats_.classes) writeClassStatistics(w, st);
   w.u64(cells_.size());
   w.bytes(cells_.data(), cells_.size());
-  w.u32(static_cast<std::uint32_t>(illumination_reference_.rows));
-  w.u32(static_cast<std::uint32_t>(illumination_reference_.cols));
-  for (int y = 0; y < illumination_reference_.rows; ++y) {
-    for (int x = 0; x < illumination_reference_.cols; ++x) w.f32(illumination_reference_.at<float>(y, x));
-  }
+  writeBlockMap(w, illumination_reference_);
+  writeBlockMap(w, illumination_levels_);
   w.patchU64(kSizeOffset, w.buffer().size() + kChecksumBytes);
   w.u32(crc32(w.buffer().data(), w.buffer().size()));
 
@@ -433,7 +496,7 @@ ColorTable ColorTable::load(const std::string& path) {
   if (data.size() < kFixedHeader) header.fail("truncated file (" + std::to_string(data.size()) + " bytes)");
   header.take(sizeof kMagic);
   const std::uint32_t version = header.u32();
-  if (version != kFormatVersion) {
+  if (version != kFormatVersion && version != 2) {
     header.fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
                 std::to_string(kFormatVersion) + ")");
   }
@@ -461,6 +524,7 @@ ColorTable ColorTable::load(const std::string& path) {
   p.v_bins = static_cast<int>(r.u32());
   p.threshold_lab = r.f64();
   p.threshold_h = r.f64();
+  p.v_margin = version >= 3 ? static_cast<int>(r.u32()) : 0;
   p.overrides.clear();
   const std::uint32_t n_overrides = r.u32();
   for (std::uint32_t i = 0; i < n_overrides; ++i) {
@@ -489,17 +553,13 @@ ColorTable ColorTable::load(const std::string& path) {
     if (cells[i] >= kNumColorClasses) r.fail("inconsistent content (cell " + std::to_string(i) + " has no class)");
     table.cells_[i] = static_cast<ColorClass>(cells[i]);
   }
-  const std::uint32_t rows = r.u32(), cols = r.u32();
-  if ((rows == 0) != (cols == 0) || static_cast<std::uint64_t>(rows) * cols > (body_end - r.position()) / 4) {
-    r.fail("inconsistent sizes (illumination reference of " + std::to_string(rows) + " x " + std::to_string(cols) +
-           " blocks)");
+  table.illumination_reference_ = readBlockMap(r, body_end, "illumination reference");
+  if (version >= 3) {
+    table.illumination_levels_ = readBlockMap(r, body_end, "illumination levels");
+    if (!table.illumination_levels_.empty() && !cv::checkRange(table.illumination_levels_, true, nullptr, 1e-3, 1e6)) {
+      r.fail("inconsistent content (illumination levels are not positive)");
+    }
   }
-  cv::Mat reference(static_cast<int>(rows), static_cast<int>(cols), CV_32FC1);
-  for (int y = 0; y < reference.rows; ++y) {
-    for (int x = 0; x < reference.cols; ++x) reference.at<float>(y, x) = r.f32();
-  }
-  if (!reference.empty() && !cv::checkRange(reference)) r.fail("inconsistent content (illumination reference is not finite)");
-  table.illumination_reference_ = reference;
   if (r.position() != body_end) r.fail("inconsistent sizes (unexpected bytes after the cells)");
   return table;
 }

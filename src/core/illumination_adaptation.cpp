@@ -5,6 +5,37 @@
 #include <stdexcept>
 
 namespace soccer_vision {
+namespace {
+
+float median(std::vector<float>& values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// The block grid of an image: block side in label pixels, label size, rows and columns.
+struct BlockGrid {
+  BlockGrid(const cv::Mat& image, PixelLayout layout)
+      : block(BlockOffsets::kBlockSize / (isBayer(layout) ? 2 : 1)),
+        labels(labelSize(image.size(), layout)),
+        rows((image.rows + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize),
+        cols((image.cols + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize) {}
+  int block;
+  cv::Size labels;
+  int rows, cols;
+};
+
+int labelV(const LabelRow& row, int i) {
+  return std::max({int(row.b[i]), (row.g1[i] + row.g2[i] + 1) >> 1, int(row.r[i])});
+}
+
+void checkBlockMap(const cv::Mat& map, const BlockGrid& grid, const char* what) {
+  if (map.type() != CV_32FC1 || map.size() != cv::Size(grid.cols, grid.rows)) {
+    throw std::invalid_argument(std::string(what) + " must be a CV_32FC1 of the image's block grid");
+  }
+}
+
+}  // namespace
 
 cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step) {
   checkImageFitsLayout(image, layout);
@@ -40,25 +71,153 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step) {
   return means;
 }
 
+
+cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step) {
+  checkImageFitsLayout(image, layout);
+  if (sample_step < 1) throw std::invalid_argument("blockLightLevels: sample_step must be >= 1");
+  const BlockGrid grid(image, layout);
+  checkBlockMap(expected, grid, "blockLightLevels: the expected levels");
+  cv::Mat levels(grid.rows, grid.cols, CV_32FC1);
+  cv::Mat1b measured(grid.rows, grid.cols);
+  std::vector<std::uint32_t> sums(static_cast<std::size_t>(grid.cols)), counts(sums.size()), read(sums.size());
+  std::vector<int> low(sums.size()), high(sums.size());
+  std::vector<float> ratios;
+  for (int by = 0; by < grid.rows; ++by) {
+    std::fill(sums.begin(), sums.end(), 0u);
+    std::fill(counts.begin(), counts.end(), 0u);
+    const float* e = expected.ptr<float>(by);
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      low[bx] = static_cast<int>(std::ceil(kLevelBandLow * e[bx]));
+      high[bx] = std::max(low[bx], static_cast<int>(std::floor(kLevelBandHigh * e[bx])));
+    }
+    const int y0 = by * grid.block, y1 = std::min(y0 + grid.block, grid.labels.height);
+    for (int y = y0; y < y1; y += sample_step) {
+      const LabelRow row = labelRow(image, layout, y);
+      for (int bx = 0; bx < grid.cols; ++bx) {
+        const int x1 = std::min((bx + 1) * grid.block, grid.labels.width);
+        // Unsigned range test: one compare per pixel for low <= v <= high.
+        const auto lo = static_cast<unsigned>(low[bx]), width = static_cast<unsigned>(high[bx] - low[bx]);
+        std::uint32_t sum = 0, count = 0;
+        for (int i = bx * grid.block * row.step; i < x1 * row.step; i += sample_step * row.step) {
+          const unsigned v = static_cast<unsigned>(labelV(row, i));
+          const bool in_band = v - lo <= width;
+          sum += in_band ? v : 0u;
+          count += in_band;
+        }
+        sums[bx] += sum;
+        counts[bx] += count;
+      }
+    }
+    const int rows_read = (y1 - y0 + sample_step - 1) / sample_step;
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      const int width = std::min((bx + 1) * grid.block, grid.labels.width) - bx * grid.block;
+      read[bx] = static_cast<std::uint32_t>(rows_read * ((width + sample_step - 1) / sample_step));
+    }
+    float* out = levels.ptr<float>(by);
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      measured(by, bx) = counts[bx] > 0 && counts[bx] >= kMinLevelFraction * read[bx];
+      if (measured(by, bx)) {
+        out[bx] = static_cast<float>(static_cast<double>(sums[bx]) / counts[bx]);
+        ratios.push_back(out[bx] / e[bx]);
+      }
+    }
+  }
+  const float fill = ratios.empty() ? 1.0f : median(ratios);
+  for (int by = 0; by < grid.rows; ++by) {
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      if (!measured(by, bx)) levels.at<float>(by, bx) = fill * expected.at<float>(by, bx);
+    }
+  }
+  return levels;
+}
+
+cv::Mat expectedLightLevels(const cv::Mat& image, PixelLayout layout) {
+  checkImageFitsLayout(image, layout);
+  const BlockGrid grid(image, layout);
+  cv::Mat1f medians(grid.rows, grid.cols);
+  std::vector<float> values;
+  for (int by = 0; by < grid.rows; ++by) {
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      values.clear();
+      for (int y = by * grid.block; y < std::min((by + 1) * grid.block, grid.labels.height); ++y) {
+        const LabelRow row = labelRow(image, layout, y);
+        for (int x = bx * grid.block; x < std::min((bx + 1) * grid.block, grid.labels.width); ++x) {
+          values.push_back(static_cast<float>(labelV(row, x * row.step)));
+        }
+      }
+      medians(by, bx) = median(values);
+    }
+  }
+  constexpr int radius = 2;
+  cv::Mat1f expected(medians.size());
+  for (int by = 0; by < grid.rows; ++by) {
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      values.clear();
+      for (int j = std::max(0, by - radius); j <= std::min(grid.rows - 1, by + radius); ++j) {
+        for (int i = std::max(0, bx - radius); i <= std::min(grid.cols - 1, bx + radius); ++i) values.push_back(medians(j, i));
+      }
+      expected(by, bx) = std::max(median(values), 1.0f);  // a black image still has a positive level
+    }
+  }
+  return std::move(expected);
+}
+
 IlluminationAdaptation IlluminationAdaptation::fromImages(const std::vector<cv::Mat>& images, PixelLayout layout) {
   if (images.empty()) throw std::invalid_argument("illumination reference: no images");
-  cv::Mat sum;
+  cv::Mat sum, level_sum;
   for (const cv::Mat& image : images) {
     if (image.size() != images.front().size()) {
       throw std::invalid_argument("illumination reference: images of different sizes");
     }
-    const cv::Mat means = blockMeanV(image, layout);
-    if (sum.empty()) {
-      means.convertTo(sum, CV_64FC1);
-    } else {
-      cv::Mat m;
-      means.convertTo(m, CV_64FC1);
-      sum += m;
+    cv::Mat means, levels;
+    blockMeanV(image, layout).convertTo(means, CV_64FC1);
+    blockLightLevels(image, layout, expectedLightLevels(image, layout)).convertTo(levels, CV_64FC1);
+    sum = sum.empty() ? means : sum + means;
+    level_sum = level_sum.empty() ? levels : level_sum + levels;
+  }
+  cv::Mat reference, levels;
+  sum.convertTo(reference, CV_32FC1, 1.0 / static_cast<double>(images.size()));
+  level_sum.convertTo(levels, CV_32FC1, 1.0 / static_cast<double>(images.size()));
+  return IlluminationAdaptation(reference, levels);
+}
+
+BlockOffsets IlluminationAdaptation::gainsFor(const cv::Mat& levels) const {
+  if (levels_.empty()) return {};
+  if (levels.type() != CV_32FC1 || levels.size() != levels_.size()) {
+    throw std::invalid_argument("illumination gains: levels must be a CV_32FC1 of the reference's block grid");
+  }
+  const double mean_level = cv::mean(levels_)[0];
+  BlockOffsets out;
+  out.gains.create(levels.size(), CV_16UC1);
+  for (int y = 0; y < levels.rows; ++y) {
+    const float* level = levels.ptr<float>(y);
+    std::uint16_t* gain = out.gains.ptr<std::uint16_t>(y);
+    for (int x = 0; x < levels.cols; ++x) {
+      const double g = ColorTable::kUnitGain * mean_level / std::max(level[x], 1e-3f);
+      gain[x] = static_cast<std::uint16_t>(
+          std::clamp<long>(std::lround(std::min(g, 1e6)), ColorTable::kUnitGain / 8, 8 * ColorTable::kUnitGain));
     }
   }
-  cv::Mat reference;
-  sum.convertTo(reference, CV_32FC1, 1.0 / static_cast<double>(images.size()));
-  return IlluminationAdaptation(reference);
+  return out;
+}
+
+cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step) const {
+  // The band follows a global change first, so that it still holds the carpet when the
+  // whole field got much brighter or darker than at calibration.
+  double global = 1.0;
+  if (!reference_.empty() && reference_.size() == levels_.size()) {
+    const cv::Mat now = blockMeanV(image, layout, 2 * sample_step);
+    std::vector<float> ratios;
+    ratios.reserve(now.total());
+    for (int y = 0; y < now.rows; ++y) {
+      for (int x = 0; x < now.cols; ++x) {
+        const float ref = reference_.at<float>(y, x);
+        if (ref > 0) ratios.push_back(now.at<float>(y, x) / ref);
+      }
+    }
+    if (!ratios.empty()) global = std::clamp<double>(median(ratios), 1.0 / 16, 16.0);
+  }
+  return blockLightLevels(image, layout, levels_ * global, sample_step);
 }
 
 BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
@@ -67,13 +226,23 @@ BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout l
     throw std::invalid_argument("illumination offsets: max_offset must be in 0..255 (beyond, V saturates)");
   }
   if (size_mismatch) *size_mismatch = false;
-  if (k == 0.0 || reference_.empty()) return {};
-  if (reference_.type() != CV_32FC1) throw std::invalid_argument("illumination reference must be CV_32FC1");
-  const cv::Mat now = blockMeanV(image, layout, sample_step);
-  if (now.size() != reference_.size()) {
+  const cv::Mat& reference = normalizes() ? levels_ : reference_;
+  if (reference.empty()) return {};
+  if (reference.type() != CV_32FC1) throw std::invalid_argument("illumination reference must be CV_32FC1");
+  const BlockGrid grid(image, layout);
+  if (reference.size() != cv::Size(grid.cols, grid.rows)) {
+    checkImageFitsLayout(image, layout);
     if (size_mismatch) *size_mismatch = true;
     return {};
   }
+  if (!normalizes()) return paperOffsets(image, layout, k, sample_step, max_offset);
+  return gainsFor(k == 0.0 ? levels_ : currentLevels(image, layout, sample_step));
+}
+
+BlockOffsets IlluminationAdaptation::paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
+                                                  int max_offset) const {
+  if (k == 0.0) return {};
+  const cv::Mat now = blockMeanV(image, layout, sample_step);
   BlockOffsets out;
   out.offsets.create(now.size(), CV_16SC1);
   for (int y = 0; y < now.rows; ++y) {

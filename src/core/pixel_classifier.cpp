@@ -2,10 +2,11 @@
 //
 //  * H and S of a pixel do not depend on the V offset, only V's bin does. So every 24-bit
 //    colour is mapped once, with the table's own bgrToHsv/hBin/sBin, to the *V column* of
-//    its HS cell: the 256 classes of that cell for V' = 0..255, with V' = clamp(V + offset).
+//    its HS cell: the 256 classes of that cell for V' = 0..255, with V' the adjusted V
+//    (ColorTable::adjustedV: V scaled by the block's gain, plus its offset, clamped).
 //    HS cells with equal columns share one (most of the HS plane is all None; a calibrated
 //    table has tens of distinct columns), so the lookup is
-//    class = column[id(b, g, r)][clamp(max(b, g, r) + offset)].
+//    class = column[id(b, g, r)][adjustedV(max(b, g, r), offset, gain)].
 //  * id(b, g, r) is a two-level table: the 4x4x4 colour cube (6 bits per channel, 2^18
 //    uint32) gives a block of 64 column ids (uint16) for the colours inside it. A cube
 //    whose colours all share one column points at that column's shared uniform block; only
@@ -60,6 +61,8 @@ using detail::ClassLookup;
 static_assert(kNumColorClasses <= 16, "cube masks are 16 bits");
 
 constexpr int clampV(int v) { return v < 0 ? 0 : v > 255 ? 255 : v; }
+// ColorTable::adjustedV for the hot loops (same formula, no call).
+constexpr int adjust(int v, int offset, int gain) { return clampV(((v * gain + 128) >> 8) + offset); }
 constexpr int maxOf(int b, int g, int r) { return std::max(b, std::max(g, r)); }
 constexpr int kMaxLaplacian = 4 * 255;
 
@@ -255,10 +258,8 @@ PixelClassifier::PixelClassifier(std::shared_ptr<const ColorTable> table)
   lookup_ = buildLookup(*table_);
 }
 
-ColorClass PixelClassifier::classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset) const {
-  // Offsets beyond ±255 saturate; limiting them first keeps the sum from overflowing.
-  const int offset = std::clamp(v_offset, -256, 256);
-  return static_cast<ColorClass>(lookup_->classAt(b, g, r, clampV(maxOf(b, g, r) + offset)));
+ColorClass PixelClassifier::classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset, int v_gain) const {
+  return static_cast<ColorClass>(lookup_->classAt(b, g, r, ColorTable::adjustedV(maxOf(b, g, r), v_offset, v_gain)));
 }
 
 // ---------------------------------------------------------------- FrameClassifier
@@ -273,14 +274,17 @@ FrameClassifier::FrameClassifier(const PixelClassifier& classifier, const cv::Ma
   checkImageFitsLayout(image, layout);
   static_assert(BlockOffsets::kBlockSize == 32, "block_shift_ assumes 32-pixel blocks");
   const cv::Size blocks((image.cols + 31) / 32, (image.rows + 31) / 32);
-  if (offsets.offsets.empty()) {
-    offsets_ = cv::Mat::zeros(blocks, CV_16SC1);
-  } else if (offsets.offsets.type() != CV_16SC1 || offsets.offsets.size() != blocks) {
-    throw std::invalid_argument("FrameClassifier: offsets must be CV_16SC1 of " + std::to_string(blocks.height) +
-                                " x " + std::to_string(blocks.width) + " blocks");
-  } else {
-    offsets_ = offsets.offsets;
-  }
+  auto per_block = [&](const cv::Mat& given, int type, const char* what, double none) {
+    if (given.empty()) return cv::Mat(blocks, type, cv::Scalar(none));
+    if (given.type() != type || given.size() != blocks) {
+      throw std::invalid_argument(std::string("FrameClassifier: ") + what + " must be " +
+                                  (type == CV_16SC1 ? "CV_16SC1" : "CV_16UC1") + " of " +
+                                  std::to_string(blocks.height) + " x " + std::to_string(blocks.width) + " blocks");
+    }
+    return given;
+  };
+  offsets_ = per_block(offsets.offsets, CV_16SC1, "offsets", 0);
+  gains_ = per_block(offsets.gains, CV_16UC1, "gains", ColorTable::kUnitGain);
   if (!(sharpen >= 0.0)) throw std::invalid_argument("FrameClassifier: sharpen must be >= 0");
   if (sharpen > 0.0) {
     sharpen_terms_.resize(2 * kMaxLaplacian + 1);
@@ -300,8 +304,9 @@ void FrameClassifier::checkRect(const cv::Rect& rect) const {
   }
 }
 
-int FrameClassifier::offsetAt(int x, int y) const {
-  return offsets_.at<std::int16_t>(y >> block_shift_, x >> block_shift_);
+int FrameClassifier::adjustedVAt(int x, int y, int v) const {
+  const int bx = x >> block_shift_, by = y >> block_shift_;
+  return adjust(v, offsets_.at<std::int16_t>(by, bx), gains_.at<std::uint16_t>(by, bx));
 }
 
 int FrameClassifier::sharpenedV(int x, int y) const {
@@ -317,7 +322,7 @@ int FrameClassifier::sharpenedV(int x, int y) const {
 
 int FrameClassifier::adaptedV(int x, int y) const {
   checkRect({x, y, 1, 1});
-  return clampV(sharpenedV(x, y) + offsetAt(x, y));
+  return adjustedVAt(x, y, sharpenedV(x, y));
 }
 
 cv::Vec3b FrameClassifier::colorAt(int x, int y) const {
@@ -328,27 +333,39 @@ cv::Vec3b FrameClassifier::colorAt(int x, int y) const {
 
 namespace {
 
-// Labels of label row `row` for x in [x0, x1); `offsets` is the row's block offsets.
+// The block adjustments of one label row.
+struct RowAdjustment {
+  const std::int16_t* offsets;
+  const std::uint16_t* gains;
+  int block_shift;
+  int operator()(int x, int v) const { return adjust(v, offsets[x >> block_shift], gains[x >> block_shift]); }
+};
+
+// Labels of label row `row` for x in [x0, x1).
 template <int Step>
-void classifyRow(const ClassLookup& lookup, const LabelRow& row, const std::int16_t* offsets, int block_shift,
-                 int x0, int x1, std::uint8_t* out) {
+void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0, int x1,
+                 std::uint8_t* out) {
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; ++x) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
-    *out++ = lookup.classAt(b, g, r, clampV(maxOf(b, g, r) + offsets[x >> block_shift]));
+    *out++ = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
   }
 }
 
 template <int Step>
-void scanRow(const ClassLookup& lookup, const LabelRow& row, const std::int16_t* offsets, int block_shift, int y,
-             int x0, int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
+void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0, int x1,
+             int stride, ClassMask classes, std::vector<cv::Point>& hits) {
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; x += stride) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
     if (!lookup.mayBeIn(b, g, r, classes)) continue;
-    const int label = lookup.classAt(b, g, r, clampV(maxOf(b, g, r) + offsets[x >> block_shift]));
+    const int label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
     if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
   }
+}
+
+RowAdjustment rowAdjustment(const cv::Mat& offsets, const cv::Mat& gains, int block_shift, int y) {
+  return {offsets.ptr<std::int16_t>(y >> block_shift), gains.ptr<std::uint16_t>(y >> block_shift), block_shift};
 }
 
 }  // namespace
@@ -364,11 +381,11 @@ void FrameClassifier::classify(const cv::Rect& rect, cv::Mat& out) const {
   for (int y = rect.y; y < rect.y + rect.height; ++y) {
     std::uint8_t* labels = out.ptr<std::uint8_t>(y - rect.y);
     const LabelRow row = labelRow(image_, layout_, y);
-    const std::int16_t* offsets = offsets_.ptr<std::int16_t>(y >> block_shift_);
+    const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
     if (row.step == 3) {
-      classifyRow<3>(lookup, row, offsets, block_shift_, rect.x, rect.x + rect.width, labels);
+      classifyRow<3>(lookup, row, adjusted, rect.x, rect.x + rect.width, labels);
     } else {
-      classifyRow<2>(lookup, row, offsets, block_shift_, rect.x, rect.x + rect.width, labels);
+      classifyRow<2>(lookup, row, adjusted, rect.x, rect.x + rect.width, labels);
     }
   }
 }
@@ -386,7 +403,7 @@ void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out) cons
   for (int j = 0; j < rect.height; ++j) {
     const int y = rect.y + j;
     const LabelRow row = labelRow(image_, layout_, y);
-    const std::int16_t* offsets = offsets_.ptr<std::int16_t>(y >> block_shift_);
+    const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
     const int* above = &v[j * w + 1];
     const int* centre = above + w;
     const int* below = centre + w;
@@ -395,8 +412,7 @@ void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out) cons
       const int x = rect.x + i;
       const int laplacian = above[i] + below[i] + centre[i - 1] + centre[i + 1] - 4 * centre[i];
       const int sharpened = clampV(centre[i] - terms[laplacian]);
-      labels[i] = lookup.classAt(row.b[x * row.step], greenAt(row, x), row.r[x * row.step],
-                                 clampV(sharpened + offsets[x >> block_shift_]));
+      labels[i] = lookup.classAt(row.b[x * row.step], greenAt(row, x), row.r[x * row.step], adjusted(x, sharpened));
     }
   }
 }
@@ -413,16 +429,16 @@ void FrameClassifier::scanGrid(const cv::Rect& rect, int stride, ClassMask class
       for (int x = x0; x < x1; x += stride) {
         const int b = row.b[x * row.step], g = greenAt(row, x), r = row.r[x * row.step];
         if (!lookup.mayBeIn(b, g, r, classes)) continue;
-        const int label = lookup.classAt(b, g, r, clampV(sharpenedV(x, y) + offsetAt(x, y)));
+        const int label = lookup.classAt(b, g, r, adjustedVAt(x, y, sharpenedV(x, y)));
         if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
       }
       continue;
     }
-    const std::int16_t* offsets = offsets_.ptr<std::int16_t>(y >> block_shift_);
+    const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
     if (row.step == 3) {
-      scanRow<3>(lookup, row, offsets, block_shift_, y, x0, x1, stride, classes, hits);
+      scanRow<3>(lookup, row, adjusted, y, x0, x1, stride, classes, hits);
     } else {
-      scanRow<2>(lookup, row, offsets, block_shift_, y, x0, x1, stride, classes, hits);
+      scanRow<2>(lookup, row, adjusted, y, x0, x1, stride, classes, hits);
     }
   }
 }

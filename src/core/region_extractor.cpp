@@ -8,7 +8,8 @@
 #include <string>
 #include <utility>
 
-#include <opencv2/imgproc.hpp>
+#include "soccer_vision/binary_morphology.h"
+#include "soccer_vision/run_length_components.h"
 
 // How the exact result is found without classifying the frame (see the header for why the
 // grid scan finds every region):
@@ -18,12 +19,14 @@
 //  2. areas: tiles holding kept hits, grouped into rectangles (bounding boxes of
 //     8-connected tile groups, merged while they overlap);
 //  3. per area: classify the rectangle plus a margin that absorbs the wrong border
-//     assumptions of the four erode/dilate passes, open + close per class present, then
-//     8-connected components inside the rectangle. A region holding a hit that touches a
-//     side of the rectangle that is not the image border may continue outside: the area
-//     grows by a tile on that side (merging with areas it meets) and is redone;
+//     assumptions of the four erode/dilate passes, open + close per class present (on
+//     bit-packed masks), then 8-connected components inside the rectangle (from runs).
+//     A region holding a hit that touches a side of the rectangle that is not the image
+//     border may continue outside: the area grows by a tile on that side (merging with
+//     areas it meets) and is redone;
 //  4. regions holding a hit, within the area filter, get their moments; then the cap.
-// Connectivity: 8 (cv::connectedComponentsWithStats, connectivity 8).
+// Both equal cv::morphologyEx and cv::connectedComponentsWithStats (connectivity 8), which
+// cost more in fixed overhead than in pixels on areas this small.
 
 namespace soccer_vision {
 namespace {
@@ -37,7 +40,6 @@ double msSince(Clock::time_point& since) {
   return ms;
 }
 
-constexpr int kConnectivity = 8;
 // The hit check packs a (2k - 1)-wide row of a patch into 64 bits.
 constexpr int kMaxKernel = 31;
 constexpr int kRing = 2;         // px around a region sampled for coverage
@@ -61,8 +63,10 @@ struct RegionScratch {
   std::vector<std::uint8_t> tiles;
   std::vector<int> tile_stack;
   std::vector<Area> areas;
-  cv::Mat labels, mask, opened, closed, kernel;
-  cv::Mat components, component_stats, component_centroids;
+  cv::Mat labels;
+  BitMask mask;
+  MorphologyScratch morphology;
+  RunLengthComponents components;
   std::vector<std::uint8_t> seeded;
   std::vector<std::uint8_t> inside, near, near_in_row;  // membership, within kRing of it
   struct Sample {
@@ -221,6 +225,10 @@ void tileAreas(const std::vector<cv::Point>& hits, int shift, int tile, const cv
 // Moments from weighted sums of x, y (relative to `origin`), x², xy, y².
 struct MomentSums {
   double w = 0, x = 0, y = 0, xx = 0, xy = 0, yy = 0;
+  MomentSums() = default;
+  explicit MomentSums(const ComponentStats& c)
+      : w(c.area), x(double(c.sum_x)), y(double(c.sum_y)), xx(double(c.sum_xx)), xy(double(c.sum_xy)),
+        yy(double(c.sum_yy)) {}
   void add(double px, double py, double weight) {
     w += weight;
     x += weight * px;
@@ -388,7 +396,6 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   // 2. Tile areas.
   const int shift = morphology && k % 2 == 0 ? 2 : 0;
   tileAreas(s.hits, shift, tile, image, s);
-  if (morphology) s.kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
   // Four erode/dilate passes, each reaching k/2 px: beyond that the result is exact.
   const int margin = morphology ? 4 * (k / 2) : 0;
 
@@ -415,36 +422,29 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     stats.classify_ms += msSince(since);
 
     unsigned grow = 0;
+    const cv::Rect core_in_outer(core.tl() - outer.tl(), core.size());
     for (int c = 0; c < kNumColorClasses; ++c) {
       if (!(present & classBit(static_cast<ColorClass>(c)))) continue;
-      cv::compare(s.labels, cv::Scalar(c), s.mask, cv::CMP_EQ);
-      if (morphology) {
-        cv::morphologyEx(s.mask, s.opened, cv::MORPH_OPEN, s.kernel);
-        cv::morphologyEx(s.opened, s.closed, cv::MORPH_CLOSE, s.kernel);
-      } else {
-        s.closed = s.mask;
-      }
+      s.mask.setFromLabels(s.labels, static_cast<std::uint8_t>(c));
+      if (morphology) openThenClose(s.mask, k, s.morphology);
       stats.morphology_ms += msSince(since);
 
-      const cv::Point core_in_outer = core.tl() - outer.tl();
-      const int count = cv::connectedComponentsWithStats(s.closed(cv::Rect(core_in_outer, core.size())), s.components,
-                                                         s.component_stats, s.component_centroids, kConnectivity,
-                                                         CV_32S);
-      s.seeded.assign(static_cast<std::size_t>(count), 0);
+      s.components.compute(s.mask, core_in_outer);
+      s.seeded.assign(s.components.components().size(), 0);
       for (const auto& [seeds, color] : s.area_hits) {
         if (color != c) continue;
         for (int y = seeds.y; y < seeds.br().y; ++y) {
           for (int x = seeds.x; x < seeds.br().x; ++x) {
-            s.seeded[static_cast<std::size_t>(s.components.at<int>(y - core.y, x - core.x))] = 1;
+            const int component = s.components.componentAt(x - core.x, y - core.y);
+            if (component >= 0) s.seeded[static_cast<std::size_t>(component)] = 1;
           }
         }
       }
-      for (int label = 1; label < count; ++label) {
-        if (!s.seeded[static_cast<std::size_t>(label)]) continue;
-        const int* st = s.component_stats.ptr<int>(label);
-        const int pixels = st[cv::CC_STAT_AREA];
-        const cv::Rect box(core.x + st[cv::CC_STAT_LEFT], core.y + st[cv::CC_STAT_TOP], st[cv::CC_STAT_WIDTH],
-                           st[cv::CC_STAT_HEIGHT]);
+      for (std::size_t label = 0; label < s.seeded.size(); ++label) {
+        if (!s.seeded[label]) continue;
+        const ComponentStats& component = s.components.components()[label];
+        const int pixels = static_cast<int>(component.area);
+        const cv::Rect box = component.bbox + core.tl();
         const unsigned touched = innerSidesTouched(box, core, image);
         // A region already larger than max_area is dropped whatever lies outside.
         if (touched && pixels <= params_.max_area) grow |= touched;
@@ -452,24 +452,22 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
 
         Region r;
         r.color = static_cast<ColorClass>(c);
-        r.area = static_cast<std::uint32_t>(pixels);
+        r.area = component.area;
         r.bbox = box;
-        const cv::Rect local = box - core.tl();
-        // Membership of the bbox grown by 2 (outside it: not in the region).
-        const int stride_in = box.width + 2 * kPad;
-        s.inside.assign(static_cast<std::size_t>(stride_in) * (box.height + 2 * kPad), 0);
-        MomentSums binary;
-        for (int y = 0; y < box.height; ++y) {
-          const int* row = s.components.ptr<int>(local.y + y) + local.x;
-          for (int x = 0; x < box.width; ++x) {
-            if (row[x] != label) continue;
-            s.inside[static_cast<std::size_t>(y + kPad) * stride_in + (x + kPad)] = 1;
-            binary.add(x, y, 1.0);
+        bool weighted = false;
+        if (params_.coverage_weighted_moments) {
+          // Membership of the bbox grown by kPad (outside it: not in the region).
+          const int stride_in = box.width + 2 * kPad;
+          s.inside.assign(static_cast<std::size_t>(stride_in) * (box.height + 2 * kPad), 0);
+          const int label_index = static_cast<int>(label);
+          for (const PixelRun* run = s.components.runsBegin(label_index); run != s.components.runsEnd(label_index); ++run) {
+            const std::size_t at = static_cast<std::size_t>(run->y - component.bbox.y + kPad) * stride_in + kPad;
+            std::fill(s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_begin - component.bbox.x),
+                      s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_end - component.bbox.x), 1);
           }
+          weighted = coverageMoments(frame, box, image, s, r);
         }
-        if (!params_.coverage_weighted_moments || !coverageMoments(frame, box, image, s, r)) {
-          binary.writeTo(r, box.tl());
-        }
+        if (!weighted) MomentSums(component).writeTo(r, core.tl());
         area.regions.push_back(r);
       }
       stats.regions_ms += msSince(since);

@@ -35,7 +35,7 @@ void toImageCoordinates(Region& r) {
 
 std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(std::shared_ptr<const ColorTable> table) {
   auto model = std::make_shared<SegmentationModel>();
-  model->illumination = IlluminationAdaptation(table->illuminationReference());
+  model->illumination = IlluminationAdaptation(table->illuminationReference(), table->illuminationLevels());
   model->classifier = std::make_shared<PixelClassifier>(std::move(table));
   return model;
 }

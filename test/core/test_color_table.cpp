@@ -149,6 +149,7 @@ TEST(ColorTable, ThresholdsSelectExactlyTheSamplesTheyShould) {
   auto lab_distance = [&](const cv::Vec3b& p) { return cv::norm(openCv(p[0], p[1], p[2], cv::COLOR_BGR2Lab) - mean_lab); };
   auto hue = [](const cv::Vec3b& p) { return static_cast<double>(openCv(p[0], p[1], p[2], cv::COLOR_BGR2HSV_FULL)[0]); };
   ColorTableParams params;
+  params.v_margin = 0;  // the paper's body: V ranges exactly as the valid samples span them
   for (const auto& p : cluster) {
     ASSERT_LT(lab_distance(p), params.threshold_lab - 1);
     ASSERT_NEAR(hue(p), 30.0, 1e-3);
@@ -217,6 +218,7 @@ TEST(ColorTable, OverlappingCellGoesToTheNaiveBayesWinner) {
   params.threshold_lab = 100;
   params.threshold_h = 90;
   params.overrides.clear();
+  params.v_margin = 0;  // the paper's body: the cell of P is the only overlap
   const ColorTable table = ColorTable::build({{ColorClass::Blue, a}, {ColorClass::SkyBlue, b}}, params);
 
   // By hand, from OpenCV's HSV: the cell of P and its centre.
@@ -351,11 +353,14 @@ class ColorTableFile : public ::testing::Test {
     }
     ColorTableParams params;
     params.overrides[ColorClass::Red] = {25.0, 12.5};
-    cv::Mat1f reference(3, 4);
+    params.v_margin = 5;
+    cv::Mat1f reference(3, 4), levels(3, 4);
     for (int i = 0; i < 12; ++i) reference(i / 4, i % 4) = 60.0f + 10.25f * i;
+    for (int i = 0; i < 12; ++i) levels(i / 4, i % 4) = 90.0f - 1.5f * i;
     table_ = std::make_unique<ColorTable>(
         ColorTable::build({{ColorClass::Blue, blue}, {ColorClass::Red, red}, {ColorClass::Carpet, carpet}}, params)
-            .withIlluminationReference(reference));
+            .withIlluminationReference(reference)
+            .withIlluminationLevels(levels));
     path_ = ::testing::TempDir() + "/test_color_table.svct";
     table_->save(path_);
     bytes_ = readBytes(path_);
@@ -401,6 +406,10 @@ TEST_F(ColorTableFile, RoundTripsExactly) {
   ASSERT_EQ(loaded.illuminationReference().type(), CV_32FC1);
   ASSERT_EQ(loaded.illuminationReference().size(), cv::Size(4, 3));
   EXPECT_EQ(cv::norm(loaded.illuminationReference(), table_->illuminationReference(), cv::NORM_INF), 0.0);
+  ASSERT_EQ(loaded.illuminationLevels().size(), cv::Size(4, 3));
+  EXPECT_EQ(cv::norm(loaded.illuminationLevels(), table_->illuminationLevels(), cv::NORM_INF), 0.0);
+  EXPECT_EQ(loaded.params().v_margin, 5);
+  EXPECT_THROW(table_->withIlluminationLevels(cv::Mat1f(2, 2, 0.0f)), std::invalid_argument);
   // Saving the loaded table gives the same bytes.
   loaded.save(path_);
   EXPECT_EQ(readBytes(path_), bytes_);

@@ -68,18 +68,27 @@ const World& world() {
   return w;
 }
 
-// Offsets per 32x32 block that differ between neighbouring blocks, both signs.
+// Adjustments per 32x32 block that differ between neighbouring blocks: every third block a
+// gain from 0.9 to 1.1 (the normalised mode), the others offsets of both signs.
 BlockOffsets patternedOffsets(cv::Size image_size) {
   BlockOffsets o;
   o.offsets.create((image_size.height + 31) / 32, (image_size.width + 31) / 32, CV_16SC1);
+  o.gains.create(o.offsets.size(), CV_16UC1);
   for (int i = 0; i < o.offsets.rows; ++i) {
-    for (int j = 0; j < o.offsets.cols; ++j) o.offsets.at<std::int16_t>(i, j) = static_cast<std::int16_t>((i * 7 + j * 13) % 81 - 40);
+    for (int j = 0; j < o.offsets.cols; ++j) {
+      const bool gain = (i + j) % 3 == 0;
+      o.offsets.at<std::int16_t>(i, j) = static_cast<std::int16_t>(gain ? 0 : (i * 7 + j * 13) % 81 - 40);
+      o.gains.at<std::uint16_t>(i, j) = static_cast<std::uint16_t>(gain ? 230 + (i * 11 + j * 5) % 53 : ColorTable::kUnitGain);
+    }
   }
   return o;
 }
 
 int offsetOf(const BlockOffsets& o, int image_x, int image_y) {
   return o.offsets.empty() ? 0 : o.offsets.at<std::int16_t>(image_y / 32, image_x / 32);
+}
+int gainOf(const BlockOffsets& o, int image_x, int image_y) {
+  return o.gains.empty() ? ColorTable::kUnitGain : o.gains.at<std::uint16_t>(image_y / 32, image_x / 32);
 }
 
 cv::Mat classifyAll(const FrameClassifier& fc) {
@@ -135,9 +144,11 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
   for (int c = 1; c < kNumColorClasses; ++c) classes_present += table.statistics().classes[c].cells_assigned > 0;
   ASSERT_EQ(classes_present, kNumColorClasses - 1) << "the table should hold every class";
 
-  // ColorTable::classify is bgrToHsv followed by classifyHsv(h, s, v + offset): the HSV
-  // conversion is done once per colour, the definition's lookup once per offset.
+  // ColorTable::classify is bgrToHsv followed by classifyHsv(h, s, adjustedV(v, offset,
+  // gain)): the HSV conversion is done once per colour, the definition's lookup once per
+  // adjustment. The unit gain is the paper's v + offset.
   const int offsets[] = {-300, -40, -7, 0, 5, 33, 300};
+  const int gains[] = {32, 181, 300, 2047};
   std::int64_t mismatches = 0, non_none = 0;
   for (int b = 0; b < 256; ++b) {
     for (int g = 0; g < 256; ++g) {
@@ -153,6 +164,15 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
                           << colorClassName(got) << " instead of " << colorClassName(expected);
           }
         }
+        for (int gain : gains) {
+          const int offset = gain % 2 ? -7 : 0;  // odd gains with an offset too
+          const ColorClass expected = table.classifyHsv(hsv.h, hsv.s, std::floor((hsv.v * gain + 128) / 256) + offset);
+          const ColorClass got = w.classifier->classify(bb, gg, rr, offset, gain);
+          if (got != expected && ++mismatches <= 5) {
+            ADD_FAILURE() << "(" << b << ", " << g << ", " << r << ") gain " << gain << " offset " << offset << ": "
+                          << colorClassName(got) << " instead of " << colorClassName(expected);
+          }
+        }
       }
     }
   }
@@ -163,6 +183,9 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
     for (int offset : offsets) {
       const auto bb = static_cast<std::uint8_t>(b), gg = static_cast<std::uint8_t>(g), rr = static_cast<std::uint8_t>(r);
       EXPECT_EQ(w.classifier->classify(bb, gg, rr, offset), table.classify(bb, gg, rr, offset));
+      for (int gain : gains) {
+        EXPECT_EQ(w.classifier->classify(bb, gg, rr, offset, gain), table.classify(bb, gg, rr, offset, gain));
+      }
     }
   }
 }
@@ -198,8 +221,10 @@ TEST(PixelClassifier, EncodingsLayoutsAndClassMasks) {
   EXPECT_THROW(FrameClassifier(pc, cv::Mat1b(3, 4), PixelLayout::BayerRggb, {}), std::invalid_argument);
   EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::BayerRggb, {}), std::invalid_argument);
   EXPECT_THROW(FrameClassifier(pc, cv::Mat(4, 4, CV_16UC3), PixelLayout::Bgr, {}), std::invalid_argument);
-  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1s(2, 1)}), std::invalid_argument);
-  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1i(1, 1)}), std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1s(2, 1), {}}), std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1i(1, 1), {}}), std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{{}, cv::Mat1s(1, 1)}), std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{{}, cv::Mat_<std::uint16_t>(2, 1)}), std::invalid_argument);
   EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, {}, -0.5), std::invalid_argument);
   const FrameClassifier fc(pc, bgr, PixelLayout::Bgr, {});
   cv::Mat out;
@@ -226,12 +251,12 @@ TEST(FrameClassifier, BgrFrameUsesTheOffsetOfEachPixelsBlock) {
   for (int y = 0; y < image.rows; ++y) {
     for (int x = 0; x < image.cols; ++x) {
       const cv::Vec3b& p = image(y, x);
-      const int offset = offsetOf(offsets, x, y);
-      const ColorClass expected = w.table->classify(p[0], p[1], p[2], offset);
+      const int offset = offsetOf(offsets, x, y), gain = gainOf(offsets, x, y);
+      const ColorClass expected = w.table->classify(p[0], p[1], p[2], offset, gain);
       wrong += labels(y, x) != static_cast<std::uint8_t>(expected);
       markers += isMarkerColor(expected);
       if ((x * 31 + y * 17) % 997 == 0) {
-        ASSERT_EQ(fc.adaptedV(x, y), std::clamp(std::max({p[0], p[1], p[2]}) + offset, 0, 255));
+        ASSERT_EQ(fc.adaptedV(x, y), ColorTable::adjustedV(std::max({p[0], p[1], p[2]}), offset, gain));
         ASSERT_EQ(fc.colorAt(x, y), p);
       }
     }
@@ -273,7 +298,8 @@ TEST(FrameClassifier, RgbAndEveryBayerLayoutClassifyTheirQuadColours) {
     for (int y = 0; y < labels.rows; ++y) {
       for (int x = 0; x < labels.cols; ++x) {
         const cv::Vec3b q = quadColor(raw, pattern, x, y);
-        const ColorClass expected = w.table->classify(q[0], q[1], q[2], offsetOf(offsets, 2 * x, 2 * y));
+        const ColorClass expected =
+            w.table->classify(q[0], q[1], q[2], offsetOf(offsets, 2 * x, 2 * y), gainOf(offsets, 2 * x, 2 * y));
         wrong += labels(y, x) != static_cast<std::uint8_t>(expected);
         markers += isMarkerColor(expected);
         odd_green_sums += (bgr(2 * y, 2 * x)[1] + bgr(2 * y + 1, 2 * x + 1)[1]) % 2;
@@ -362,7 +388,7 @@ TEST(FrameClassifier, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
 }
 
 // V_s = clamp(V - lround(sharpen * L), 0, 255) with the 4-neighbour Laplacian L of V over
-// the whole label image (border replicated), then the block offset; H and S unchanged.
+// the whole label image (border replicated), then the block gain and offset; H and S unchanged.
 TEST(FrameClassifier, SharpeningReplacesVByTheSharpenedV) {
   const World& w = world();
   const cv::Mat3b bgr = w.frame(cv::Rect(0, 0, 640, 480));
@@ -387,15 +413,15 @@ TEST(FrameClassifier, SharpeningReplacesVByTheSharpenedV) {
       for (int x = 0; x < size.width; ++x) {
         const int laplacian = v(x - 1, y) + v(x + 1, y) + v(x, y - 1) + v(x, y + 1) - 4 * v(x, y);
         const int sharpened = std::clamp(static_cast<int>(v(x, y) - std::lround(sharpen * laplacian)), 0, 255);
-        const int offset = offsetOf(offsets, scale * x, scale * y);
+        const int offset = offsetOf(offsets, scale * x, scale * y), gain = gainOf(offsets, scale * x, scale * y);
         const cv::Vec3b c = color(x, y);
         const Hsv hsv = bgrToHsv(c[0], c[1], c[2]);
-        const ColorClass sharp = w.table->classifyHsv(hsv.h, hsv.s, sharpened + offset);
+        const ColorClass sharp = w.table->classifyHsv(hsv.h, hsv.s, ColorTable::adjustedV(sharpened, offset, gain));
         expected(y, x) = static_cast<std::uint8_t>(sharp);
         changed_v += sharpened != v(x, y);
-        changed_class += sharp != w.table->classify(c[0], c[1], c[2], offset);
+        changed_class += sharp != w.table->classify(c[0], c[1], c[2], offset, gain);
         if ((x * 13 + y * 7) % 211 == 0) {
-          ASSERT_EQ(fc.adaptedV(x, y), std::clamp(sharpened + offset, 0, 255));
+          ASSERT_EQ(fc.adaptedV(x, y), ColorTable::adjustedV(sharpened, offset, gain));
         }
       }
     }
@@ -496,7 +522,7 @@ TEST(Illumination, AdaptationRecoversADarkenedFrame) {
   const World& w = world();
   const cv::Mat bright = w.calibration;
   const cv::Mat dark = bright * 0.9;
-  const IlluminationAdaptation adaptation = IlluminationAdaptation::fromImages({bright}, PixelLayout::Bgr);
+  const IlluminationAdaptation adaptation(IlluminationAdaptation::fromImages({bright}, PixelLayout::Bgr).reference());
   const cv::Mat1b reference = classifyAll(FrameClassifier(*w.classifier, bright, PixelLayout::Bgr, {}));
   auto agreement = [&](double k) {
     const BlockOffsets offsets = adaptation.offsets(dark, PixelLayout::Bgr, k, 4);

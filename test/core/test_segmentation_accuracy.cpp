@@ -1,0 +1,125 @@
+// Segmentation accuracy against the synthetic camera's per-pixel labels (the issue's
+// acceptance test): a table calibrated on ONE frame (camera 0, frame 0, the
+// calibrationSamples polygons incl. background classes), then frames over 20 s of the
+// uneven-drifting-light preset, with illumination adaptation off (the table of V as
+// captured, no adaptation), the paper's (k = 0.3) and on (normalised V, the default).
+//
+// Marker interior: a pixel whose label is a marker colour and whose 8 neighbours share it
+// (edge pixels are mixtures). Background: a non-marker pixel with no marker pixel among its
+// 8 neighbours; a false positive is one classified as a marker colour.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "soccer_vision/calibration_samples.h"
+#include "soccer_vision/color_calibration.h"
+#include "soccer_vision/field_renderer.h"
+#include "soccer_vision/game_simulator.h"
+#include "soccer_vision/segmenter.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+struct Accuracy {
+  std::int64_t interior = 0, interior_right = 0, background = 0, background_as_marker = 0;
+  double markers() const { return static_cast<double>(interior_right) / interior; }
+  double falsePositives() const { return static_cast<double>(background_as_marker) / background; }
+};
+
+void count(const cv::Mat1b& truth, const cv::Mat1b& labels, Accuracy& a) {
+  for (int y = 1; y + 1 < truth.rows; ++y) {
+    for (int x = 1; x + 1 < truth.cols; ++x) {
+      const std::uint8_t t = truth(y, x);
+      bool uniform = true, near_marker = false;
+      for (int j = -1; j <= 1; ++j) {
+        for (int i = -1; i <= 1; ++i) {
+          uniform = uniform && truth(y + j, x + i) == t;
+          near_marker = near_marker || isMarkerColor(static_cast<ColorClass>(truth(y + j, x + i)));
+        }
+      }
+      if (isMarkerColor(static_cast<ColorClass>(t))) {
+        a.interior += uniform;
+        a.interior_right += uniform && labels(y, x) == t;
+      } else if (!near_marker) {
+        ++a.background;
+        a.background_as_marker += isMarkerColor(static_cast<ColorClass>(labels(y, x)));
+      }
+    }
+  }
+}
+
+struct Mode {
+  const char* name;
+  CalibrationLight light;
+  double k;
+};
+constexpr Mode kOff{"off", CalibrationLight::AsCaptured, 0.0};
+constexpr Mode kPaper{"paper k=0.3", CalibrationLight::AsCaptured, 0.3};
+constexpr Mode kOn{"on (normalised)", CalibrationLight::Normalized, 0.3};
+
+// Accuracy of each mode on `frames` frames spread over `seconds` after the calibration.
+std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<Mode>& modes, int frames, double seconds) {
+  const FieldGeometry field;
+  const PatternSet patterns = patternSetByName(scenario.pattern);
+  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  const FieldRenderer renderer(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height), field, patterns,
+                               scenario);
+  RenderedFrame calibration;
+  renderer.render(sim.state(), 0, calibration);
+  const ColorSamples samples = calibrationSamples(sim.state(), renderer.camera(), field, patterns);
+  std::vector<std::shared_ptr<const SegmentationModel>> models;
+  for (const Mode& m : modes) {
+    models.push_back(SegmentationModel::fromTable(
+        std::make_shared<const ColorTable>(calibrateColorTable({{calibration.image, samples}}, {}, m.light))));
+  }
+  std::vector<Accuracy> out(modes.size());
+  const int steps_between = static_cast<int>(seconds * scenario.fps / frames);
+  std::int64_t index = 0;
+  for (int f = 0; f < frames; ++f) {
+    for (int i = 0; i < steps_between; ++i, ++index) sim.step(1.0 / scenario.fps);
+    RenderedFrame frame;
+    renderer.render(sim.state(), index, frame);
+    const cv::Mat1b truth = renderer.renderLabels(sim.state());
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      SegmentationParams params;
+      params.illumination_k = modes[m].k;
+      count(truth, classifyAll(*models[m], frame.image, PixelLayout::Bgr, params), out[m]);
+    }
+  }
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    std::printf("[ %s ] %-16s marker interiors %.3f %% of %ld, background -> marker %.5f %% of %ld\n",
+                scenario.name.c_str(), modes[m].name, 100 * out[m].markers(), static_cast<long>(out[m].interior),
+                100 * out[m].falsePositives(), static_cast<long>(out[m].background));
+  }
+  return out;
+}
+
+}  // namespace
+
+// The bar. Measured (10 frames over 20 s, v_margin 8 in all modes): off 62.0 %,
+// paper 56.2 %, on 99.41 % (the misses are mostly purple, ~96 %: its one calibration
+// marker leaves HS cells other purple pixels fall into), no false positive in any mode.
+TEST(SegmentationAccuracy, UnevenDriftingLightCalibratedOnOneFrame) {
+  const ScenarioConfig scenario = loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/uneven_drift.yaml");
+  const std::vector<Accuracy> a = measure(scenario, {kOff, kPaper, kOn}, 10, 20.0);
+  ASSERT_GT(a[2].interior, 2000);
+  EXPECT_GE(a[2].markers(), 0.99);
+  EXPECT_LE(a[2].falsePositives(), 1e-4);
+  EXPECT_GE(a[2].markers(), a[0].markers());
+  EXPECT_LE(a[2].falsePositives(), a[0].falsePositives() + 1e-5);
+}
+
+// Even light: adaptation has nothing to correct and must not make things worse. The
+// misses (~6 %) are HS cells one frame of samples did not reach (and the ball, not in
+// camera 0's first frame), the same with and without adaptation up to the noise of the
+// measured levels: one pixel of 1695 (a bright marker pixel at its cell's V border).
+TEST(SegmentationAccuracy, EvenLightAdaptationDoesNotMakeThingsWorse) {
+  ScenarioConfig scenario;
+  scenario.name = "even";
+  const std::vector<Accuracy> a = measure(scenario, {kOff, kOn}, 4, 8.0);
+  EXPECT_GE(a[1].markers(), a[0].markers() - 0.002);
+  EXPECT_LE(a[1].falsePositives(), 1e-4);
+}
