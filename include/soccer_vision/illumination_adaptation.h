@@ -29,17 +29,24 @@ namespace soccer_vision {
 // the block's first label pixel are multiples of n in x and y. Blocks cut by the image
 // border average the pixels they have. Throws std::invalid_argument for an image that does
 // not fit the layout or sample_step < 1.
-cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step = 1);
+// `selected` (optional, CV_8UC1 of the block grid): only blocks with a non-zero entry are
+// read, the others are 0 (search windows: the cost follows the windows, not the frame).
+cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step = 1,
+                   const cv::Mat1b& selected = cv::Mat1b());
+// The blocks (of the image's block grid) that rectangles in image pixels overlap.
+cv::Mat1b blocksMeeting(const cv::Mat& image, PixelLayout layout, const std::vector<cv::Rect>& rects);
 
 // Light level per block: the mean V of the read pixels (as blockMeanV reads them) whose V
 // lies within [kLevelBandLow, kLevelBandHigh] x expected(b), i.e. the carpet, leaving out
 // robot tops (far darker), lines and most markers (far brighter). A block where fewer than
 // kMinLevelFraction of the read pixels fall in the band (covered by robots) gets
 // expected(b) x the median of level / expected over the other blocks (x 1 when there are
-// none). `expected`: CV_32FC1 of the image's block grid, positive. Throws
-// std::invalid_argument like blockMeanV, or for `expected` of another size or type.
+// none). `expected`: CV_32FC1 of the image's block grid, positive. `selected` as for
+// blockMeanV: blocks left out are filled like covered ones. Throws std::invalid_argument
+// like blockMeanV, or for `expected` of another size or type.
 constexpr double kLevelBandLow = 0.7, kLevelBandHigh = 1.4, kMinLevelFraction = 0.25;
-cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step = 1);
+cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step = 1,
+                         const cv::Mat1b& selected = cv::Mat1b());
 // Expected levels for an image without prior knowledge (calibration): per block the
 // median over its 5x5 neighbourhood of the blocks' median V, which robots (about one
 // block in size) and lines cannot take over.
@@ -77,12 +84,18 @@ class IlluminationAdaptation {
   //   or without a reference.
   // Both: an empty BlockOffsets for a frame of another block grid size (reported through
   // `size_mismatch`); max_offset must be in 0..255, else std::invalid_argument.
+  // `windows` (image pixels, optional): only the blocks they meet are measured (global
+  // change and levels from those blocks alone); the other blocks get the fill level of
+  // covered blocks (normalised) or no offset (paper's), which only matters where a region
+  // grows out of the windows.
   BlockOffsets offsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
-                       int max_offset = 64, bool* size_mismatch = nullptr) const;
+                       int max_offset = 64, bool* size_mismatch = nullptr,
+                       const std::vector<cv::Rect>* windows = nullptr) const;
 
  private:
-  BlockOffsets paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step, int max_offset) const;
-  cv::Mat currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step) const;
+  BlockOffsets paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step, int max_offset,
+                            const cv::Mat1b& selected) const;
+  cv::Mat currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step, const cv::Mat1b& selected) const;
 
   cv::Mat reference_;
   cv::Mat levels_;

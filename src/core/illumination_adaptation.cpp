@@ -35,11 +35,33 @@ void checkBlockMap(const cv::Mat& map, const BlockGrid& grid, const char* what) 
   }
 }
 
+void checkSelection(const cv::Mat1b& selected, const BlockGrid& grid, const char* what) {
+  if (!selected.empty() && selected.size() != cv::Size(grid.cols, grid.rows)) {
+    throw std::invalid_argument(std::string(what) + ": the block selection must be of the image's block grid");
+  }
+}
+
 }  // namespace
 
-cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step) {
+cv::Mat1b blocksMeeting(const cv::Mat& image, PixelLayout layout, const std::vector<cv::Rect>& rects) {
+  const BlockGrid grid(image, layout);
+  cv::Mat1b selected(grid.rows, grid.cols, std::uint8_t(0));
+  const cv::Rect all(0, 0, grid.cols, grid.rows);
+  constexpr int b = BlockOffsets::kBlockSize;
+  for (const cv::Rect& r : rects) {
+    if (r.empty()) continue;
+    const int x0 = r.x >= 0 ? r.x / b : -1, y0 = r.y >= 0 ? r.y / b : -1;
+    const int x1 = (r.x + r.width - 1) / b + 1, y1 = (r.y + r.height - 1) / b + 1;
+    const cv::Rect blocks = cv::Rect(x0, y0, x1 - x0, y1 - y0) & all;
+    if (!blocks.empty()) selected(blocks).setTo(1);
+  }
+  return selected;
+}
+
+cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step, const cv::Mat1b& selected) {
   checkImageFitsLayout(image, layout);
   if (sample_step < 1) throw std::invalid_argument("blockMeanV: sample_step must be >= 1");
+  checkSelection(selected, BlockGrid(image, layout), "blockMeanV");
   const int block = BlockOffsets::kBlockSize / (isBayer(layout) ? 2 : 1);  // in label pixels
   const cv::Size labels = labelSize(image.size(), layout);
   const int block_rows = (image.rows + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize;
@@ -48,10 +70,16 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step) {
   std::vector<std::uint32_t> sums(static_cast<std::size_t>(block_cols));
   for (int by = 0; by < block_rows; ++by) {
     std::fill(sums.begin(), sums.end(), 0u);
+    const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(by);
+    if (wanted && std::none_of(wanted, wanted + block_cols, [](std::uint8_t w) { return w != 0; })) {
+      means.row(by).setTo(0.0f);
+      continue;
+    }
     const int y0 = by * block, y1 = std::min(y0 + block, labels.height);
     for (int y = y0; y < y1; y += sample_step) {
       const LabelRow row = labelRow(image, layout, y);
       for (int bx = 0; bx < block_cols; ++bx) {
+        if (wanted && !wanted[bx]) continue;
         const int x1 = std::min((bx + 1) * block, labels.width);
         std::uint32_t sum = 0;
         for (int i = bx * block * row.step; i < x1 * row.step; i += sample_step * row.step) {
@@ -65,18 +93,20 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step) {
     for (int bx = 0; bx < block_cols; ++bx) {
       const int width = std::min((bx + 1) * block, labels.width) - bx * block;
       const int read = rows_read * ((width + sample_step - 1) / sample_step);
-      out[bx] = static_cast<float>(static_cast<double>(sums[static_cast<std::size_t>(bx)]) / read);
+      out[bx] = wanted && !wanted[bx] ? 0.0f : static_cast<float>(static_cast<double>(sums[static_cast<std::size_t>(bx)]) / read);
     }
   }
   return means;
 }
 
 
-cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step) {
+cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step,
+                         const cv::Mat1b& selected) {
   checkImageFitsLayout(image, layout);
   if (sample_step < 1) throw std::invalid_argument("blockLightLevels: sample_step must be >= 1");
   const BlockGrid grid(image, layout);
   checkBlockMap(expected, grid, "blockLightLevels: the expected levels");
+  checkSelection(selected, grid, "blockLightLevels");
   cv::Mat levels(grid.rows, grid.cols, CV_32FC1);
   cv::Mat1b measured(grid.rows, grid.cols);
   std::vector<std::uint32_t> sums(static_cast<std::size_t>(grid.cols)), counts(sums.size()), read(sums.size());
@@ -86,6 +116,11 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
     std::fill(sums.begin(), sums.end(), 0u);
     std::fill(counts.begin(), counts.end(), 0u);
     const float* e = expected.ptr<float>(by);
+    const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(by);
+    if (wanted && std::none_of(wanted, wanted + grid.cols, [](std::uint8_t w) { return w != 0; })) {
+      measured.row(by).setTo(0);
+      continue;
+    }
     for (int bx = 0; bx < grid.cols; ++bx) {
       low[bx] = static_cast<int>(std::ceil(kLevelBandLow * e[bx]));
       high[bx] = std::max(low[bx], static_cast<int>(std::floor(kLevelBandHigh * e[bx])));
@@ -94,6 +129,7 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
     for (int y = y0; y < y1; y += sample_step) {
       const LabelRow row = labelRow(image, layout, y);
       for (int bx = 0; bx < grid.cols; ++bx) {
+        if (wanted && !wanted[bx]) continue;
         const int x1 = std::min((bx + 1) * grid.block, grid.labels.width);
         // Unsigned range test: one compare per pixel for low <= v <= high.
         const auto lo = static_cast<unsigned>(low[bx]), width = static_cast<unsigned>(high[bx] - low[bx]);
@@ -115,7 +151,7 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
     }
     float* out = levels.ptr<float>(by);
     for (int bx = 0; bx < grid.cols; ++bx) {
-      measured(by, bx) = counts[bx] > 0 && counts[bx] >= kMinLevelFraction * read[bx];
+      measured(by, bx) = (!wanted || wanted[bx]) && counts[bx] > 0 && counts[bx] >= kMinLevelFraction * read[bx];
       if (measured(by, bx)) {
         out[bx] = static_cast<float>(static_cast<double>(sums[bx]) / counts[bx]);
         ratios.push_back(out[bx] / e[bx]);
@@ -201,27 +237,29 @@ BlockOffsets IlluminationAdaptation::gainsFor(const cv::Mat& levels) const {
   return out;
 }
 
-cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step) const {
+cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step,
+                                              const cv::Mat1b& selected) const {
   // The band follows a global change first, so that it still holds the carpet when the
   // whole field got much brighter or darker than at calibration.
   double global = 1.0;
   if (!reference_.empty() && reference_.size() == levels_.size()) {
-    const cv::Mat now = blockMeanV(image, layout, 2 * sample_step);
+    const cv::Mat now = blockMeanV(image, layout, 2 * sample_step, selected);
     std::vector<float> ratios;
     ratios.reserve(now.total());
     for (int y = 0; y < now.rows; ++y) {
       for (int x = 0; x < now.cols; ++x) {
         const float ref = reference_.at<float>(y, x);
-        if (ref > 0) ratios.push_back(now.at<float>(y, x) / ref);
+        if (ref > 0 && (selected.empty() || selected(y, x))) ratios.push_back(now.at<float>(y, x) / ref);
       }
     }
     if (!ratios.empty()) global = std::clamp<double>(median(ratios), 1.0 / 16, 16.0);
   }
-  return blockLightLevels(image, layout, levels_ * global, sample_step);
+  return blockLightLevels(image, layout, levels_ * global, sample_step, selected);
 }
 
 BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
-                                             int max_offset, bool* size_mismatch) const {
+                                             int max_offset, bool* size_mismatch,
+                                             const std::vector<cv::Rect>* windows) const {
   if (max_offset < 0 || max_offset > 255) {
     throw std::invalid_argument("illumination offsets: max_offset must be in 0..255 (beyond, V saturates)");
   }
@@ -235,14 +273,15 @@ BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout l
     if (size_mismatch) *size_mismatch = true;
     return {};
   }
-  if (!normalizes()) return paperOffsets(image, layout, k, sample_step, max_offset);
-  return gainsFor(k == 0.0 ? levels_ : currentLevels(image, layout, sample_step));
+  const cv::Mat1b selected = windows ? blocksMeeting(image, layout, *windows) : cv::Mat1b();
+  if (!normalizes()) return paperOffsets(image, layout, k, sample_step, max_offset, selected);
+  return gainsFor(k == 0.0 ? levels_ : currentLevels(image, layout, sample_step, selected));
 }
 
 BlockOffsets IlluminationAdaptation::paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
-                                                  int max_offset) const {
+                                                  int max_offset, const cv::Mat1b& selected) const {
   if (k == 0.0) return {};
-  const cv::Mat now = blockMeanV(image, layout, sample_step);
+  const cv::Mat now = blockMeanV(image, layout, sample_step, selected);
   BlockOffsets out;
   out.offsets.create(now.size(), CV_16SC1);
   for (int y = 0; y < now.rows; ++y) {
@@ -250,7 +289,9 @@ BlockOffsets IlluminationAdaptation::paperOffsets(const cv::Mat& image, PixelLay
     const float* cur = now.ptr<float>(y);
     std::int16_t* o = out.offsets.ptr<std::int16_t>(y);
     for (int x = 0; x < now.cols; ++x) {
-      const double delta = std::clamp(k * (static_cast<double>(ref[x]) - cur[x]), -1e4, 1e4);
+      // Blocks left out of the selection get no offset (nothing there is classified).
+      const bool skipped = !selected.empty() && !selected(y, x);
+      const double delta = skipped ? 0.0 : std::clamp(k * (static_cast<double>(ref[x]) - cur[x]), -1e4, 1e4);
       o[x] = static_cast<std::int16_t>(std::clamp<long>(std::lround(delta), -max_offset, max_offset));
     }
   }

@@ -65,7 +65,8 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
 
   const BlockOffsets offsets = model.illumination.offsets(
       image, layout, params_.illumination_k, params_.illumination_sample_step,
-      params_.max_illumination_offset, &out.illumination_size_mismatch);
+      params_.max_illumination_offset, &out.illumination_size_mismatch,
+      out.global_search ? nullptr : &out.windows);
   out.timings.illumination_ms = msSince(start);
 
   const FrameClassifier frame(*model.classifier, image, layout, offsets, params_.sharpen);
@@ -78,6 +79,8 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
     for (auto& r : out.regions) toImageCoordinates(r);
   }
   out.cap_hits = stats.cap_hits;
+  out.grid_points = stats.grid_points;
+  out.classified_pixels = stats.classified_pixels;
   out.timings.classification_ms = stats.classify_ms;
   out.timings.morphology_ms = stats.morphology_ms;
   out.timings.regions_ms = stats.regions_ms;

@@ -549,3 +549,48 @@ TEST(Illumination, AdaptationRecoversADarkenedFrame) {
   EXPECT_GE(all_03, all_off);
   EXPECT_GE(all_1, all_03);
 }
+
+// Search windows: only the blocks they meet are measured. The paper's offsets there are
+// exactly the full frame's (each block is on its own) and zero elsewhere; normalised gains
+// there follow the same light, measured from fewer blocks (global change and fill level
+// from the windows alone): within 2 % of the full frame's (measured: equal, as the carpet
+// band of each block hardly moves with the global estimate).
+TEST(Illumination, WindowsMeasureOnlyTheBlocksTheyMeet) {
+  const World& w = world();
+  const cv::Mat dark = w.frame * 0.8;
+  const std::vector<cv::Rect> windows = {{100, 90, 200, 200}, {-50, 900, 200, 200}, {1000, 400, 64, 31}};
+  const cv::Mat1b selected = blocksMeeting(dark, PixelLayout::Bgr, windows);
+  ASSERT_EQ(selected.size(), cv::Size(40, 32));
+  // Blocks (x, y) 3..9 x 2..9, 0..4 x 28..31 (clipped), 31..33 x 12..13.
+  EXPECT_EQ(cv::countNonZero(selected), 7 * 8 + 5 * 4 + 3 * 2);
+  EXPECT_TRUE(selected(2, 3) && selected(9, 9) && !selected(10, 9) && !selected(2, 10) && !selected(1, 3));
+
+  const IlluminationAdaptation paper(IlluminationAdaptation::fromImages({w.calibration}, PixelLayout::Bgr).reference());
+  const BlockOffsets full = paper.offsets(dark, PixelLayout::Bgr, 0.3, 4);
+  const BlockOffsets windowed = paper.offsets(dark, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
+  ASSERT_EQ(windowed.offsets.size(), full.offsets.size());
+  for (int y = 0; y < selected.rows; ++y) {
+    for (int x = 0; x < selected.cols; ++x) {
+      const int expected = selected(y, x) ? full.offsets.at<std::int16_t>(y, x) : 0;
+      ASSERT_EQ(windowed.offsets.at<std::int16_t>(y, x), expected) << "block " << x << ", " << y;
+    }
+  }
+
+  const IlluminationAdaptation normalised = IlluminationAdaptation::fromImages({w.calibration}, PixelLayout::Bgr);
+  const BlockOffsets full_gains = normalised.offsets(dark, PixelLayout::Bgr, 0.3, 4);
+  const BlockOffsets windowed_gains = normalised.offsets(dark, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
+  double worst = 0;
+  for (int y = 0; y < selected.rows; ++y) {
+    for (int x = 0; x < selected.cols; ++x) {
+      if (!selected(y, x)) continue;
+      const double a = full_gains.gains.at<std::uint16_t>(y, x), b = windowed_gains.gains.at<std::uint16_t>(y, x);
+      worst = std::max(worst, std::abs(a - b) / a);
+    }
+  }
+  std::printf("  windowed gains within %.3f %% of the full frame's\n", 100 * worst);
+  EXPECT_LT(worst, 0.02);
+  // The darkening is seen: the gains are 1 / 0.8 of those of the frame as rendered.
+  const BlockOffsets undarkened = normalised.offsets(w.frame, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
+  EXPECT_NEAR(double(windowed_gains.gains.at<std::uint16_t>(5, 5)) / undarkened.gains.at<std::uint16_t>(5, 5), 1.25,
+              0.03);
+}
