@@ -110,7 +110,10 @@ class FrameClassifier {
   // the label image) written to `out`, a CV_8UC1 of rect.size() (may be a view into a
   // larger matrix; allocated when it is not of that size and type). Throws
   // std::invalid_argument for a rect outside the label image.
-  void classify(const cv::Rect& rect, cv::Mat& out) const;
+  // `keep`: labels of other classes are written as None (the region extractor needs only
+  // the marker classes); a pixel whose colour cube holds no kept class is then settled by
+  // one lookup instead of three. All classes by default.
+  void classify(const cv::Rect& rect, cv::Mat& out, ClassMask keep = ~ClassMask(0)) const;
   // Label pixels (x, y) in `rect` with x % stride == 0 and y % stride == 0 whose class is
   // in `classes`, appended to `hits` row by row. Most pixels are rejected by a 4x4x4
   // colour-cube test before the full lookup. Throws std::invalid_argument for stride < 1
@@ -125,7 +128,7 @@ class FrameClassifier {
 
  private:
   int sharpenedV(int x, int y) const;
-  void classifySharpened(const cv::Rect& rect, cv::Mat& out) const;
+  void classifySharpened(const cv::Rect& rect, cv::Mat& out, ClassMask keep) const;
   int adjustedVAt(int x, int y, int v) const;
   void checkRect(const cv::Rect& rect) const;
 

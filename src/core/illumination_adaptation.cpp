@@ -29,6 +29,23 @@ int labelV(const LabelRow& row, int i) {
   return std::max({int(row.b[i]), (row.g1[i] + row.g2[i] + 1) >> 1, int(row.r[i])});
 }
 
+// Sum and count of the V values in [lo, lo + width] of label pixels x0, x0 + step, ... < x1
+// of a row. Unsigned range test: one compare per pixel for lo <= v <= lo + width.
+template <int Step>
+void sumInBand(const LabelRow& row, int x0, int x1, int step, unsigned lo, unsigned width, std::uint32_t& sum,
+               std::uint32_t& count) {
+  std::uint32_t s = 0, n = 0;
+  for (int i = x0 * Step; i < x1 * Step; i += step * Step) {
+    const int g = Step == 3 ? row.g1[i] : (row.g1[i] + row.g2[i] + 1) >> 1;  // bgr8/rgb8: one green
+    const unsigned v = static_cast<unsigned>(std::max({int(row.b[i]), g, int(row.r[i])}));
+    const bool in_band = v - lo <= width;
+    s += in_band ? v : 0u;
+    n += in_band;
+  }
+  sum += s;
+  count += n;
+}
+
 void checkBlockMap(const cv::Mat& map, const BlockGrid& grid, const char* what) {
   if (map.type() != CV_32FC1 || map.size() != cv::Size(grid.cols, grid.rows)) {
     throw std::invalid_argument(std::string(what) + " must be a CV_32FC1 of the image's block grid");
@@ -131,17 +148,13 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
       for (int bx = 0; bx < grid.cols; ++bx) {
         if (wanted && !wanted[bx]) continue;
         const int x1 = std::min((bx + 1) * grid.block, grid.labels.width);
-        // Unsigned range test: one compare per pixel for low <= v <= high.
         const auto lo = static_cast<unsigned>(low[bx]), width = static_cast<unsigned>(high[bx] - low[bx]);
-        std::uint32_t sum = 0, count = 0;
-        for (int i = bx * grid.block * row.step; i < x1 * row.step; i += sample_step * row.step) {
-          const unsigned v = static_cast<unsigned>(labelV(row, i));
-          const bool in_band = v - lo <= width;
-          sum += in_band ? v : 0u;
-          count += in_band;
+        const int x0 = bx * grid.block;
+        if (row.step == 3) {
+          sumInBand<3>(row, x0, x1, sample_step, lo, width, sums[bx], counts[bx]);
+        } else {
+          sumInBand<2>(row, x0, x1, sample_step, lo, width, sums[bx], counts[bx]);
         }
-        sums[bx] += sum;
-        counts[bx] += count;
       }
     }
     const int rows_read = (y1 - y0 + sample_step - 1) / sample_step;

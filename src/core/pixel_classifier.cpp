@@ -352,6 +352,22 @@ void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjust
   }
 }
 
+// The same, other classes than `keep` written as None.
+template <int Step>
+void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0,
+                        int x1, ClassMask keep, std::uint8_t* out) {
+  const Pixels<Step> px(row);
+  for (int x = x0; x < x1; ++x) {
+    const int b = px.b(x), g = px.g(x), r = px.r(x);
+    std::uint8_t label = 0;
+    if (lookup.mayBeIn(b, g, r, keep)) {
+      label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
+      if (!(keep & (ClassMask(1) << label))) label = 0;
+    }
+    *out++ = label;
+  }
+}
+
 template <int Step>
 void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0, int x1,
              int stride, ClassMask classes, std::vector<cv::Point>& hits) {
@@ -364,33 +380,39 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
   }
 }
 
+constexpr ClassMask kAllClasses = (ClassMask(1) << kNumColorClasses) - 1;
+
 RowAdjustment rowAdjustment(const cv::Mat& offsets, const cv::Mat& gains, int block_shift, int y) {
   return {offsets.ptr<std::int16_t>(y >> block_shift), gains.ptr<std::uint16_t>(y >> block_shift), block_shift};
 }
 
 }  // namespace
 
-void FrameClassifier::classify(const cv::Rect& rect, cv::Mat& out) const {
+void FrameClassifier::classify(const cv::Rect& rect, cv::Mat& out, ClassMask keep) const {
   checkRect(rect);
   out.create(rect.size(), CV_8UC1);
   if (!sharpen_terms_.empty()) {
-    classifySharpened(rect, out);
+    classifySharpened(rect, out, keep);
     return;
   }
   const ClassLookup& lookup = *classifier_.lookup_;
+  const bool all = (keep & kAllClasses) == kAllClasses;
   for (int y = rect.y; y < rect.y + rect.height; ++y) {
     std::uint8_t* labels = out.ptr<std::uint8_t>(y - rect.y);
     const LabelRow row = labelRow(image_, layout_, y);
     const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
-    if (row.step == 3) {
-      classifyRow<3>(lookup, row, adjusted, rect.x, rect.x + rect.width, labels);
+    const int x0 = rect.x, x1 = rect.x + rect.width;
+    if (all) {
+      row.step == 3 ? classifyRow<3>(lookup, row, adjusted, x0, x1, labels)
+                    : classifyRow<2>(lookup, row, adjusted, x0, x1, labels);
     } else {
-      classifyRow<2>(lookup, row, adjusted, rect.x, rect.x + rect.width, labels);
+      row.step == 3 ? classifyRowKeeping<3>(lookup, row, adjusted, x0, x1, keep, labels)
+                    : classifyRowKeeping<2>(lookup, row, adjusted, x0, x1, keep, labels);
     }
   }
 }
 
-void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out) const {
+void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out, ClassMask keep) const {
   // V of the rect and a one-pixel ring around it (border replicated), read once.
   const int w = rect.width + 2;
   std::vector<int> v(static_cast<std::size_t>(w) * (rect.height + 2));
@@ -412,7 +434,9 @@ void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out) cons
       const int x = rect.x + i;
       const int laplacian = above[i] + below[i] + centre[i - 1] + centre[i + 1] - 4 * centre[i];
       const int sharpened = clampV(centre[i] - terms[laplacian]);
-      labels[i] = lookup.classAt(row.b[x * row.step], greenAt(row, x), row.r[x * row.step], adjusted(x, sharpened));
+      const std::uint8_t label =
+          lookup.classAt(row.b[x * row.step], greenAt(row, x), row.r[x * row.step], adjusted(x, sharpened));
+      labels[i] = keep & (ClassMask(1) << label) ? label : 0;
     }
   }
 }

@@ -93,12 +93,12 @@ int multiplesIn(int begin, int end, int step) {
 // entirely of its class: exactly the points that survive the opening. As in
 // cv::morphologyEx, the outside of the image counts as the class for erosion, and only
 // windows of in-image anchor pixels (anchor k/2) exist. Adds the pixels it classified.
-bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, cv::Mat& patch,
-                     std::uint32_t& classified) {
+bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
+                     cv::Mat& patch, std::uint32_t& classified) {
   const int n = 2 * k - 1;  // every window holding g lies in g ± (k - 1)
   const cv::Rect wanted(g.x - (k - 1), g.y - (k - 1), n, n);
   const cv::Rect inside = wanted & image;
-  frame.classify(inside, patch);
+  frame.classify(inside, patch, classes);
   classified += static_cast<std::uint32_t>(inside.area());
   const std::uint8_t color = patch.at<std::uint8_t>(g.y - inside.y, g.x - inside.x);
   const int anchor = k / 2;
@@ -387,7 +387,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   if (morphology) {
     std::size_t kept = 0;
     for (const cv::Point& g : s.hits) {
-      if (survivesOpening(frame, image, g, k, s.patch, stats.classified_pixels)) s.hits[kept++] = g;
+      if (survivesOpening(frame, image, g, k, params_.classes, s.patch, stats.classified_pixels)) s.hits[kept++] = g;
     }
     s.hits.resize(kept);
   }
@@ -407,7 +407,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     area.regions.clear();
     const cv::Rect core = area.core;
     const cv::Rect outer = grownBy(core, margin, image);
-    frame.classify(outer, s.labels);
+    frame.classify(outer, s.labels, params_.classes);
     stats.classified_pixels += static_cast<std::uint32_t>(outer.area());
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();

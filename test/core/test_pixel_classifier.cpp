@@ -387,6 +387,37 @@ TEST(FrameClassifier, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
   }
 }
 
+// classify(rect, out, keep) equals classify(rect, out) with the other classes set to None,
+// for every layout, with and without sharpening.
+TEST(FrameClassifier, KeepingClassesEqualsTheFullLabelsMasked) {
+  const World& w = world();
+  const cv::Mat bgr = w.frame;
+  const cv::Mat raw = mosaic(bgr, "rggb");
+  const BlockOffsets offsets = patternedOffsets(bgr.size());
+  std::int64_t kept_pixels = 0;
+  for (const auto& [image, layout] : {std::pair{bgr, PixelLayout::Bgr}, {raw, PixelLayout::BayerRggb}}) {
+    for (double sharpen : {0.0, 0.5}) {
+      const FrameClassifier fc(*w.classifier, image, layout, offsets, sharpen);
+      const cv::Size size = fc.labelSize();
+      const cv::Rect rect(0, 0, size.width, size.height);
+      cv::Mat all;
+      fc.classify(rect, all);
+      for (ClassMask keep : {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Pink),
+                             ClassMask(0)}) {
+        cv::Mat kept;
+        fc.classify(rect, kept, keep);
+        cv::Mat1b expected = all.clone();
+        for (auto& label : expected) {
+          if (!(keep & (ClassMask(1) << label))) label = 0;
+        }
+        ASSERT_EQ(cv::countNonZero(kept != expected), 0) << "keep " << keep << " sharpen " << sharpen;
+        kept_pixels += cv::countNonZero(kept);
+      }
+    }
+  }
+  EXPECT_GT(kept_pixels, 10000);  // the comparison saw real labels, not only None
+}
+
 // V_s = clamp(V - lround(sharpen * L), 0, 255) with the 4-neighbour Laplacian L of V over
 // the whole label image (border replicated), then the block gain and offset; H and S unchanged.
 TEST(FrameClassifier, SharpeningReplacesVByTheSharpenedV) {
