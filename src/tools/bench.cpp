@@ -151,6 +151,9 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
   const sv::OpenCvBaseline baseline(*table);
 
   sv::Segmenter segmenter;
+  sv::SegmentationParams sharpening;
+  sharpening.sharpen = 0.5;
+  sv::Segmenter sharpened(sharpening);
   sv::SegmentationResult result;
   Series s;
   std::size_t regions = 0, windows = 0;
@@ -176,6 +179,8 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
       s.add("windowed_regions", result.timings.regions_ms);
       s.add("windowed_grid_points", result.grid_points);
       s.add("windowed_classified_pixels", result.classified_pixels);
+      sharpened.process(*model, bgr[i], sv::PixelLayout::Bgr, {}, result);
+      s.add("sharpened", result.timings.total_ms);
       segmenter.process(*model, bayer[i], sv::PixelLayout::BayerRggb, {}, result);
       s.add("bayer", result.timings.total_ms);
       s.add("opencv", timeMs([&] { sink = sink + baseline.run(bgr[i]); }));
@@ -195,6 +200,7 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
   std::printf("  pixels looked up: full frame %.0f grid + %.0f around hits, windows %.0f grid + %.0f around hits\n",
               s.med("grid_points"), s.med("classified_pixels"), s.med("windowed_grid_points"),
               s.med("windowed_classified_pixels"));
+  std::printf("  segmentation, sharpen 0.5  %8.3f ms  (%.2fx unsharpened)\n", s.med("sharpened"), s.med("sharpened") / seg);
   std::printf("  segmentation, bayer_rggb8  %8.3f ms  (%.2fx bgr8)\n", s.med("bayer"), s.med("bayer") / seg);
   std::printf("  OpenCV pipeline            %8.3f ms  -> soccer_vision is %.1fx faster\n", cv_ms, cv_ms / seg);
   std::printf("  memory-read floor          %8.3f ms  -> soccer_vision is %.2fx the floor\n", floor, seg / floor);
@@ -203,6 +209,7 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
           {"height", size.height},
           {"segmentation_ms", seg},
           {"windowed_ms", s.med("windowed")},
+          {"sharpened_ms", s.med("sharpened")},
           {"bayer_ms", s.med("bayer")},
           {"opencv_baseline_ms", cv_ms},
           {"memory_floor_ms", floor},
