@@ -14,8 +14,11 @@
 //                                     file logs an error and keeps the previous table. Until a
 //                                     table exists (file or ~calibrate) frames are dropped
 //                                     (error repeated every 5 s).
-//   illumination_k    double  0.3     (dr) Paper's k: v' = v + k (v_ref - v_now) per 32x32
-//                                     block, v_ref from the table's calibration images; 0 = off.
+//   illumination_k    double  0.3     (dr) Illumination adaptation per 32x32 block; 0 = off.
+//                                     Normalised tables (calibrate_colors' default): k > 0
+//                                     measures each block's light level every frame and
+//                                     scales V to the calibration's mean level. Tables of V
+//                                     as captured: the paper's v' = v + k (v_ref - v_now).
 //   morph_kernel      int     3       (dr) Open + close with a k x k square per class; 0 = off.
 //   min_area          int     5       (dr) Smallest region kept [px of the label image].
 //   max_area          int     20000   (dr) Largest region kept [px of the label image].

@@ -1,12 +1,15 @@
 // calibrate_colors: the paper's offline colour calibration (§III-A) as a command. From one
 // or more calibration images and the DESIGN.md sample polygons on each, builds the colour
 // table (mean Lab / mean H per class, valid samples, HSV bodies, naive Bayes on overlaps),
-// attaches the illumination reference of the images (mean V per 32x32 block) and writes a
-// versioned .svct file for the Segmentation nodelet (parameter color_table).
+// attaches the illumination reference of the images (mean V and carpet light level per
+// 32x32 block) and writes a versioned .svct file for the Segmentation nodelet (parameter
+// color_table). By default the table files normalised V (illumination_adaptation.h);
+// --light as-captured builds the paper's table of V as captured (adaptation v + k·Δv).
 //
 //   rosrun soccer_vision calibrate_colors --image A.png [--image B.png ...]
 //       --samples samples.yaml [--samples ...] --out table.svct [--preview preview.png]
-//       [--threshold-lab X] [--threshold-h DEG] [--bins H,S,V]
+//       [--threshold-lab X] [--threshold-h DEG] [--bins H,S,V] [--v-margin N]
+//       [--light normalized|as-captured]
 //
 // Images and samples files pair up in order; a single samples file applies to every image.
 // All images must have the same size (the illumination reference is per block).
@@ -41,6 +44,7 @@ struct Options {
   std::string out;
   std::string preview;
   sv::ColorTableParams params;
+  sv::CalibrationLight light = sv::CalibrationLight::Normalized;
 };
 
 void usage() {
@@ -48,7 +52,7 @@ void usage() {
                "[--samples ...]\n"
                "         --out TABLE.svct [--preview PREVIEW.png] [--threshold-lab X] "
                "[--threshold-h DEG]\n"
-               "         [--bins H,S,V]\n"
+               "         [--bins H,S,V] [--v-margin N] [--light normalized|as-captured]\n"
                "images and samples pair up in order; one samples file may serve every image\n";
 }
 
@@ -98,6 +102,19 @@ Options parseArgs(int argc, char** argv) {
       o.params.h_bins = bins[0];
       o.params.s_bins = bins[1];
       o.params.v_bins = bins[2];
+    } else if (a == "--v-margin") {
+      const double m = parseDouble(a, value());
+      if (m != static_cast<int>(m)) throw std::invalid_argument("--v-margin takes an integer");
+      o.params.v_margin = static_cast<int>(m);
+    } else if (a == "--light") {
+      const std::string v = value();
+      if (v == "normalized") {
+        o.light = sv::CalibrationLight::Normalized;
+      } else if (v == "as-captured") {
+        o.light = sv::CalibrationLight::AsCaptured;
+      } else {
+        throw std::invalid_argument("--light takes normalized or as-captured, got '" + v + "'");
+      }
     } else if (a == "--help" || a == "-h") {
       usage();
       std::exit(0);
@@ -218,7 +235,7 @@ int main(int argc, char** argv) {
   try {
     const std::vector<sv::CalibrationImage> inputs = loadInputs(o);
     checkSamplesSelectPixels(o, inputs);
-    const sv::ColorTable table = sv::calibrateColorTable(inputs, o.params);
+    const sv::ColorTable table = sv::calibrateColorTable(inputs, o.params, o.light);
     table.save(o.out);
     std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(),
                 inputs.front().bgr.cols, inputs.front().bgr.rows);

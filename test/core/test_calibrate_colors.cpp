@@ -115,6 +115,7 @@ TEST_F(CalibrateColors, SeveralImagesOneSamplesFileAndOptions) {
   EXPECT_EQ(table.params().v_bins, 8);
   EXPECT_DOUBLE_EQ(table.params().threshold_lab, 15.0);
   EXPECT_DOUBLE_EQ(table.params().threshold_h, 10.0);
+  EXPECT_FALSE(table.illuminationLevels().empty());  // normalised V by default
   const ColorTable one = ColorTable::load(kDir + "/table.svct");
   // The same image twice: every sample counted twice.
   const int blue = static_cast<int>(ColorClass::Blue);
@@ -127,6 +128,19 @@ TEST_F(CalibrateColors, SeveralImagesOneSamplesFileAndOptions) {
   ASSERT_EQ(pairs.status, 0) << pairs.output;
   EXPECT_GT(ColorTable::load(kDir + "/pairs.svct").statistics().classes[blue].samples,
             one.statistics().classes[blue].samples);
+}
+
+// --light as-captured: the paper's table (no light levels, V as captured), --v-margin kept.
+TEST_F(CalibrateColors, PaperTableOfVAsCaptured) {
+  const std::string out = kDir + "/paper.svct";
+  const ToolRun r = run("--image " + image() + " --samples " + samples() + " --out " + out +
+                        " --light as-captured --v-margin 3");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const ColorTable table = ColorTable::load(out);
+  EXPECT_TRUE(table.illuminationLevels().empty());
+  EXPECT_FALSE(table.illuminationReference().empty());
+  EXPECT_EQ(table.params().v_margin, 3);
+  EXPECT_EQ(run("--image " + image() + " --samples " + samples() + " --out " + out + " --light dim").status, 2);
 }
 
 TEST_F(CalibrateColors, BadArgumentsAndFilesExit2) {
