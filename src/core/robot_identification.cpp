@@ -102,6 +102,7 @@ class Matcher {
         const Eigen::Vector2d d = observed_[c].plane.centre - team.plane.centre;
         const double dist = d.norm();
         if (dist > max_reach_) continue;
+
         for (std::size_t s = 0; s < pattern_.slots.size(); ++s) {
           if (slot_dist_[s] < 1e-6 || std::abs(dist - slot_dist_[s]) > params_.marker_gate) continue;
           if (!slot_colors_[s].count(observed_[c].color)) continue;
