@@ -1,0 +1,43 @@
+#include "soccer_vision/ball_detection.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "soccer_vision/image_footprint.h"
+
+namespace soccer_vision {
+
+BallDetector::BallDetector(const CameraModel& camera, const FieldGeometry& field, const BallDetectionParams& params)
+    : camera_(camera), field_(field), params_(params) {}
+
+std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regions,
+                                                const std::vector<bool>& region_used) const {
+  std::vector<BallDetection> out;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const Region& region = regions[r];
+    if (region.color != params_.color || (r < region_used.size() && region_used[r])) continue;
+    const Eigen::Vector2d pixel(region.cx, region.cy);
+    const auto p = camera_.pixelToField(pixel, params_.radius);
+    if (!p || !field_.onCarpet(p->x(), p->y(), params_.field_margin)) continue;
+    const double expected = expectedBallArea(camera_, *p, params_.radius);
+    if (expected <= 0) continue;
+    const double ratio = region.area / expected;
+    if (ratio < params_.area_ratio_min || ratio > params_.area_ratio_max) continue;
+    const double l = std::log(ratio) / params_.area_sigma;
+    BallDetection b;
+    b.x = p->x();
+    b.y = p->y();
+    b.z = params_.radius;
+    b.confidence = std::exp(-0.5 * l * l);
+    b.pixel = pixel;
+    b.area_px = region.area;
+    if (b.confidence >= params_.min_confidence) out.push_back(b);
+  }
+  std::sort(out.begin(), out.end(), [](const BallDetection& a, const BallDetection& b) { return a.confidence > b.confidence; });
+  if (params_.max_candidates > 0 && static_cast<int>(out.size()) > params_.max_candidates) {
+    out.resize(params_.max_candidates);
+  }
+  return out;
+}
+
+}  // namespace soccer_vision

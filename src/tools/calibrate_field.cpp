@@ -1,0 +1,145 @@
+// calibrate_field: the camera's pose in `field` from >= 4 pixel <-> field correspondences
+// (DESIGN.md field_points.yaml, raw distorted pixels) and the camera's intrinsics (the
+// standard ROS camera calibration YAML, e.g. camera_info.yaml of make_scenario or of
+// camera_calibration). Prints the reprojection error of every point and the RMS, and
+// writes camera_pose.yaml (see include/soccer_vision/camera_pose_file.h) from which the
+// static tf field -> camera_<n>_optical is published.
+//
+//   rosrun soccer_vision calibrate_field --camera-info camera_info.yaml
+//       --points field_points.yaml --out camera_pose.yaml
+//       [--camera-id N] [--child-frame-id camera_N_optical] [--max-rms PX]
+//
+// Exit status: 0 on success; 2 for bad arguments, unreadable or invalid files, degenerate
+// correspondences (< 4, collinear, non-finite) or an unwritable output; 3 when the RMS
+// reprojection error exceeds --max-rms (default 2 px: wrong correspondences); the pose is
+// not written then.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "soccer_vision/camera_info_yaml.h"
+#include "soccer_vision/camera_pose_file.h"
+#include "soccer_vision/camera_pose_solver.h"
+#include "soccer_vision/exchange_formats.h"
+
+namespace sv = soccer_vision;
+
+namespace {
+
+struct Options {
+  std::string camera_info, points, out, child_frame_id;
+  std::optional<int> camera_id;
+  double max_rms = 2.0;
+};
+
+void usage() {
+  std::cerr << "usage: calibrate_field --camera-info CAMERA_INFO.yaml --points FIELD_POINTS.yaml --out CAMERA_POSE.yaml\n"
+               "         [--camera-id N] [--child-frame-id FRAME] [--max-rms PX]\n";
+}
+
+Options parseArgs(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    auto number = [&](const std::string& text) {
+      std::size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || !std::isfinite(v)) throw std::invalid_argument(a + ": '" + text + "' is not a number");
+      return v;
+    };
+    if (a == "--camera-info") o.camera_info = value();
+    else if (a == "--points") o.points = value();
+    else if (a == "--out") o.out = value();
+    else if (a == "--child-frame-id") o.child_frame_id = value();
+    else if (a == "--camera-id") {
+      const double v = number(value());
+      if (v < 0 || v != std::floor(v)) throw std::invalid_argument("--camera-id must be a non-negative integer");
+      o.camera_id = static_cast<int>(v);
+    } else if (a == "--max-rms") {
+      o.max_rms = number(value());
+      if (o.max_rms <= 0) throw std::invalid_argument("--max-rms must be positive");
+    } else if (a == "--help" || a == "-h") {
+      usage();
+      std::exit(0);
+    } else {
+      throw std::invalid_argument("unknown argument '" + a + "'");
+    }
+  }
+  if (o.camera_info.empty() || o.points.empty() || o.out.empty()) {
+    throw std::invalid_argument("--camera-info, --points and --out are required");
+  }
+  if (o.child_frame_id.empty() && o.camera_id) o.child_frame_id = "camera_" + std::to_string(*o.camera_id) + "_optical";
+  return o;
+}
+
+int run(const Options& o) {
+  const sv::CameraIntrinsics k = sv::loadCameraInfoYaml(o.camera_info);
+  const auto points = sv::loadFieldCorrespondences(o.points);
+  sv::CameraPoseSolution solution;
+  try {
+    solution = sv::solveCameraPose(k, points);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(o.points + ": " + e.what());
+  }
+  std::printf("%zu correspondences, camera %dx%d (fx %.3f fy %.3f cx %.3f cy %.3f)\n", points.size(), k.width,
+              k.height, k.fx, k.fy, k.cx, k.cy);
+  std::printf("  #   pixel u    pixel v    field x   field y   field z   error px\n");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    std::printf("%3zu %10.3f %10.3f %9.4f %9.4f %9.4f %10.4f\n", i, p.pixel.x(), p.pixel.y(), p.field.x(),
+                p.field.y(), p.field.z(), solution.errors_px[i]);
+  }
+  const Eigen::Vector3d t = solution.field_T_camera.translation();
+  const Eigen::Quaterniond q(solution.field_T_camera.linear());
+  std::printf("reprojection error: RMS %.4f px, max %.4f px (%d LM iterations)\n", solution.rms_px, solution.max_px,
+              solution.iterations);
+  std::printf("camera centre in field: (%.4f, %.4f, %.4f) m, rotation xyzw (%.6f, %.6f, %.6f, %.6f)\n", t.x(), t.y(),
+              t.z(), q.x(), q.y(), q.z(), q.w());
+  if (solution.rms_px > o.max_rms) {
+    std::cerr << "calibrate_field: RMS reprojection error " << solution.rms_px << " px exceeds --max-rms " << o.max_rms
+              << " px: check the correspondences (" << o.points << ") and the intrinsics (" << o.camera_info
+              << "); not writing " << o.out << "\n";
+    return 3;
+  }
+  sv::CameraPoseFile file;
+  file.camera_id = o.camera_id;
+  file.child_frame_id = o.child_frame_id;
+  file.field_T_camera = solution.field_T_camera;
+  file.rms_error_px = solution.rms_px;
+  file.points = static_cast<int>(points.size());
+  file.intrinsics = k;
+  sv::saveCameraPoseFile(o.out, file);
+  std::printf("wrote %s\n", o.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  try {
+    o = parseArgs(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "calibrate_field: " << e.what() << "\n";
+    usage();
+    return 2;
+  }
+  try {
+    return run(o);
+  } catch (const std::exception& e) {
+    std::cerr << "calibrate_field: " << e.what() << "\n";
+    return 2;
+  }
+}
