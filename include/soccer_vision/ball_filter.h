@@ -1,0 +1,60 @@
+// Kalman filter of the ball: constant velocity in x, y (state x, y, vx, vy) with its own
+// noise model. A rolling ball keeps its velocity (friction ~0.4 m/s²), so the process
+// noise is small; kicks and bounces change the velocity within one frame (up to
+// 15 m/s), which no Gaussian model covers. So a measurement outside the gate but
+// within reach of a kicked ball (max_speed × time since the last measurement, plus a
+// margin) restarts the filter there, with the velocity estimated from the jump and a
+// broad velocity variance: the next measurement pins the new velocity down. Farther than
+// that reach nothing is accepted, however uncertain a coasting filter has become.
+// Process noise: the continuous white-noise acceleration model of constant_velocity.h.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace soccer_vision {
+
+struct BallFilterParams {
+  double accel_noise = 1.5;        // [m/s^1.5] sqrt of the white-acceleration density
+  double sigma_xy = 0.005;         // [m] measurement noise, std-dev per axis
+  double init_sigma_v = 4.0;       // [m/s] velocity std-dev of a new track
+  double kick_sigma_v = 5.0;       // [m/s] velocity std-dev after a kick restart
+  double max_speed = 15.0;         // [m/s] fastest plausible ball (kicks)
+  double kick_margin = 0.05;       // [m] added to the reach of a kicked ball
+  double gate_d2 = 13.8;           // squared Mahalanobis distance, chi²(2) at 99.9 %
+  double gate_min_distance = 0.03; // [m] measurements this close always pass
+};
+
+// Checks ranges; throws std::invalid_argument naming the parameter.
+void validate(const BallFilterParams& p);
+
+enum class BallGate { Accepted, Kick, Rejected };
+
+class BallFilter {
+ public:
+  using State = Eigen::Matrix<double, 4, 1>;  // x, y, vx, vy
+  using Covariance = Eigen::Matrix<double, 4, 4>;
+
+  BallFilter() = default;
+  BallFilter(const BallFilterParams& params, double x, double y);
+
+  void predict(double dt);  // dt <= 0: no change
+  // How a measurement would be treated, given the time since the last measurement.
+  BallGate classify(double x, double y, double time_since_update) const;
+  double distance2(double x, double y) const;
+  // Applies a measurement classified as Accepted or Kick (Rejected: no change).
+  BallGate update(double x, double y, double time_since_update);
+
+  const State& state() const { return x_; }
+  const Covariance& covariance() const { return P_; }
+  void predicted(double dt, State& x, Covariance& P) const;
+  const BallFilterParams& params() const { return p_; }
+  void setParams(const BallFilterParams& p) { p_ = p; }
+
+ private:
+  BallFilterParams p_;
+  State x_ = State::Zero();
+  Covariance P_ = Covariance::Identity();
+  Eigen::Vector2d last_measured_{0, 0};
+};
+
+}  // namespace soccer_vision

@@ -1,0 +1,92 @@
+// Kalman filter of one robot: constant velocity in x, y and heading θ
+// (state x, y, θ, vx, vy, ω), angle wrapped in the state and in the innovation.
+//
+// Process noise: white-noise acceleration in continuous time (Bar-Shalom's "continuous
+// white noise acceleration" model). For an axis with spectral density q the covariance
+// added by a prediction over dt is q * [dt³/3, dt²/2; dt²/2, dt]: the velocity standard
+// deviation grows by sqrt(q) per sqrt(second), and predictions compose exactly
+// (predict(a) then predict(b) == predict(a + b)), which matters because several cameras
+// advance the filter in uneven steps. Parameters are given as sqrt(q).
+//
+// Gating: the position innovation is tested against the 2-dof squared Mahalanobis
+// distance, the heading innovation separately against 1-dof, so a heading outlier (a
+// 180° flip of the pattern) does not discard a good position. Rejections are counted;
+// after `reinit_after_rejections` consecutive ones the filter restarts at the
+// measurement (the robot really is there: it was carried, or the filter diverged).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace soccer_vision {
+
+struct RobotFilterParams {
+  double accel_noise_xy = 1.0;     // [m/s^1.5] sqrt of the white-acceleration density, x and y
+  double accel_noise_theta = 4.0;  // [rad/s^1.5] same for the heading
+  double sigma_x = 0.004;          // [m] measurement noise, std-dev along field x
+  double sigma_y = 0.004;          // [m] along field y
+  double sigma_theta = 0.03;       // [rad] heading measurement noise
+  double init_sigma_v = 2.0;       // [m/s] velocity std-dev of a new track
+  double init_sigma_omega = 6.0;   // [rad/s] angular-velocity std-dev of a new track
+  double gate_position_d2 = 13.8;  // squared Mahalanobis distance, chi²(2) at 99.9 %
+  double gate_heading_d2 = 10.8;   // squared Mahalanobis distance, chi²(1) at 99.9 %
+  double gate_min_distance = 0.05; // [m] positions this close to the prediction always pass
+                                   //     (camera-to-camera calibration mismatch, tight filters)
+  double gate_min_angle = 0.15;    // [rad] headings this close always pass
+  int reinit_after_rejections = 3; // consecutive rejections that restart the filter (>= 1)
+};
+
+// Checks ranges; throws std::invalid_argument naming the parameter.
+void validate(const RobotFilterParams& p);
+
+struct RobotMeasurement {
+  double x = 0, y = 0;             // [m]
+  double theta = 0;                // [rad]
+  bool heading_valid = true;       // false: update position only
+};
+
+enum class GateResult {
+  Accepted,            // full update
+  HeadingRejected,     // position used, heading discarded as outlier
+  Rejected,            // whole measurement discarded as outlier
+  Reinitialised        // too many rejections in a row: restarted at the measurement
+};
+
+class RobotFilter {
+ public:
+  using State = Eigen::Matrix<double, 6, 1>;   // x, y, θ, vx, vy, ω
+  using Covariance = Eigen::Matrix<double, 6, 6>;
+
+  RobotFilter() = default;
+  // Starts at the measurement with zero velocity (heading 0 and a broad heading variance
+  // when the measurement has none).
+  RobotFilter(const RobotFilterParams& params, const RobotMeasurement& m);
+
+  // Advances the state by dt >= 0 seconds (negative dt is treated as 0: never backwards).
+  void predict(double dt);
+  // Gates and applies one measurement of the current time.
+  GateResult update(const RobotMeasurement& m);
+  // Squared Mahalanobis distance of the measurement's position (2 dof).
+  double positionDistance2(double x, double y) const;
+
+  const State& state() const { return x_; }
+  const Covariance& covariance() const { return P_; }
+  // State and covariance predicted dt ahead, without changing the filter.
+  void predicted(double dt, State& x, Covariance& P) const;
+  const RobotFilterParams& params() const { return p_; }
+  void setParams(const RobotFilterParams& p) { p_ = p; }
+  int consecutiveRejections() const { return rejections_; }
+
+ private:
+  void start(const RobotMeasurement& m);
+  void startHeading(double theta);
+  void applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H,
+                   const Eigen::MatrixXd& R);
+
+  RobotFilterParams p_;
+  State x_ = State::Zero();
+  Covariance P_ = Covariance::Identity();
+  int rejections_ = 0;
+  int heading_rejections_ = 0;
+};
+
+}  // namespace soccer_vision
