@@ -1,0 +1,294 @@
+// soccer_vision/Identification: blobs of one camera -> robots and ball candidates on the
+// field (paper §III-D). A thin adapter over the core's FrameIdentifier: it builds the
+// camera model from camera_info (intrinsics, distortion) and the camera pose, and turns
+// each BlobArray into one CameraDetections with the image's capture stamp.
+//
+// Parameters (private namespace ~; (dr) = also dynamic_reconfigure, cfg/Identification.cfg):
+//   camera_id         int     0       Camera number n (CameraDetections.camera_id); blobs of
+//                                     another camera_id are dropped with an error.
+//   pattern           string  "two_tag"  Marker pattern set: two_tag, ssl, team_only or a YAML
+//                                     path (config/patterns/). A bad file logs an error and
+//                                     keeps the previous pattern (two_tag at start-up).
+//   camera_pose       string  ""      camera_pose.yaml of calibrate_field. Empty: the pose
+//                                     comes from tf (field_frame -> the image's optical frame,
+//                                     e.g. the synthetic driver's true pose). Given: it is used
+//                                     and published as the static tf field_frame -> optical
+//                                     frame; intrinsics of another resolution/focal length
+//                                     are refused (error, frames dropped).
+//   field_frame       string  "field"
+//   marker_gate       double  0.020   (dr) [m] max distance of a marker from where the fitted
+//                                     pose puts it.
+//   area_ratio_gate   double  2.5     (dr) observed / expected marker area within [1/g, g].
+//   min_confidence    double  0.05    (dr) robots below are not reported.
+//   max_missing_markers int   1       (dr) id markers a robot may lack (SSL pattern).
+//   report_unidentified bool  false   (dr) report team markers without an id (id 255).
+//   ball_area_ratio_min, ball_area_ratio_max double 0.3, 3.0  (dr) plausible ball area range.
+//   ball_field_margin double  0.10    (dr) [m] ball candidates beyond the carpet are dropped.
+//   max_ball_candidates int   4       (dr) best first; 0 = all.
+//
+// Subscribed (camera namespace): blobs (soccer_vision/BlobArray), camera_info.
+// Published (camera namespace): detections (soccer_vision/CameraDetections), header stamp =
+//   the image's capture stamp, frame "field"; /tf_static (camera_pose given);
+//   /diagnostics: rate, processing time, robots and balls per frame, drops by cause.
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <boost/make_shared.hpp>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "soccer_vision/BlobArray.h"
+#include "soccer_vision/CameraDetections.h"
+#include "soccer_vision/IdentificationConfig.h"
+#include "soccer_vision/camera_pose_file.h"
+#include "soccer_vision/frame_identification.h"
+#include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/detection_conversions.h"
+#include "soccer_vision/ros/transforms.h"
+
+namespace soccer_vision {
+
+namespace {
+
+IdentificationParams toIdentificationParams(const IdentificationConfig& c) {
+  IdentificationParams p;
+  p.robots.marker_gate = c.marker_gate;
+  p.robots.area_ratio_gate = c.area_ratio_gate;
+  p.robots.min_confidence = c.min_confidence;
+  p.robots.max_missing_markers = c.max_missing_markers;
+  p.robots.report_unidentified = c.report_unidentified;
+  p.balls.area_ratio_min = c.ball_area_ratio_min;
+  p.balls.area_ratio_max = std::max(c.ball_area_ratio_max, c.ball_area_ratio_min);
+  p.balls.field_margin = c.ball_field_margin;
+  p.balls.max_candidates = c.max_ball_candidates;
+  return p;
+}
+
+double msSince(const ros::WallTime& start) { return (ros::WallTime::now() - start).toSec() * 1e3; }
+
+}  // namespace
+
+class IdentificationNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override;
+  void blobsCallback(const BlobArrayConstPtr& blobs);
+  void cameraInfoCallback(const sensor_msgs::CameraInfoConstPtr& info);
+  void reconfigure(IdentificationConfig& config, uint32_t level);
+  // The identifier for these blobs' camera, built or rebuilt when intrinsics, pose or
+  // pattern changed; nullptr (with the reason logged) when something is missing.
+  std::shared_ptr<const FrameIdentifier> identifierFor(const BlobArray& blobs);
+  void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void drop(std::uint64_t& counter);
+
+  int camera_id_ = 0;
+  std::string field_frame_ = "field";
+  std::optional<CameraPoseFile> pose_file_;
+  std::string pose_file_path_;
+
+  ros::Subscriber blobs_sub_, info_sub_;
+  ros::Publisher detections_pub_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::shared_ptr<SharedStaticTf> static_tf_;
+  ros::WallTimer tf_timer_;
+
+  using ReconfigureServer = dynamic_reconfigure::Server<IdentificationConfig>;
+  std::unique_ptr<ReconfigureServer> reconfigure_server_;
+  boost::recursive_mutex reconfigure_mutex_;
+
+  std::mutex mutex_;  // everything below
+  sensor_msgs::CameraInfoConstPtr info_;
+  IdentificationParams params_;
+  PatternSet patterns_ = PatternSet::twoTag();
+  std::string pattern_name_;
+  bool rebuild_ = true;
+  std::shared_ptr<const FrameIdentifier> identifier_;
+  std::string identifier_frame_;
+  std::string problem_;  // why there is no identifier
+  // Diagnostics.
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diag_timer_;
+  ros::WallTime window_start_;
+  std::uint64_t frames_ = 0, window_frames_ = 0, window_robots_ = 0, window_balls_ = 0;
+  double window_ms_sum_ = 0, window_ms_max_ = 0;
+  std::uint64_t dropped_no_camera_ = 0, dropped_other_camera_ = 0, dropped_error_ = 0;
+};
+
+void IdentificationNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  pnh.param("camera_id", camera_id_, 0);
+  pnh.param("field_frame", field_frame_, std::string("field"));
+  pnh.param("camera_pose", pose_file_path_, std::string());
+  if (!pose_file_path_.empty()) {
+    try {
+      pose_file_ = loadCameraPoseFile(pose_file_path_);
+    } catch (const std::exception& e) {
+      NODELET_ERROR("camera_pose: %s; no identification until it is fixed (restart the nodelet)", e.what());
+      problem_ = e.what();
+    }
+  }
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+  updater_->setHardwareID("camera " + std::to_string(camera_id_));
+  updater_->add("identification", this, &IdentificationNodelet::diagnostics);
+  window_start_ = ros::WallTime::now();
+  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
+
+  reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
+  reconfigure_server_->setCallback([this](IdentificationConfig& c, uint32_t level) { reconfigure(c, level); });
+
+  detections_pub_ = nh.advertise<CameraDetections>("detections", 5);
+  info_sub_ = nh.subscribe("camera_info", 2, &IdentificationNodelet::cameraInfoCallback, this);
+  blobs_sub_ = nh.subscribe("blobs", 5, &IdentificationNodelet::blobsCallback, this);
+}
+
+void IdentificationNodelet::reconfigure(IdentificationConfig& config, uint32_t /*level*/) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  params_ = toIdentificationParams(config);
+  if (config.pattern != pattern_name_) {
+    try {
+      patterns_ = patternSetByName(config.pattern);
+      pattern_name_ = config.pattern;
+    } catch (const std::exception& e) {
+      NODELET_ERROR("pattern '%s': %s; keeping '%s'", config.pattern.c_str(), e.what(),
+                    pattern_name_.empty() ? "two_tag" : pattern_name_.c_str());
+      config.pattern = pattern_name_.empty() ? "two_tag" : pattern_name_;
+    }
+  }
+  rebuild_ = true;
+}
+
+void IdentificationNodelet::cameraInfoCallback(const sensor_msgs::CameraInfoConstPtr& info) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool changed = !info_ || info_->K != info->K || info_->D != info->D || info_->width != info->width ||
+                       info_->height != info->height || info_->header.frame_id != info->header.frame_id;
+  info_ = info;
+  rebuild_ = rebuild_ || changed;
+}
+
+std::shared_ptr<const FrameIdentifier> IdentificationNodelet::identifierFor(const BlobArray& blobs) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!rebuild_ && identifier_ && identifier_frame_ == blobs.header.frame_id) return identifier_;
+  if (!info_) {
+    problem_ = "no camera_info received yet";
+    return nullptr;
+  }
+  try {
+    const CameraIntrinsics intrinsics = intrinsicsFromCameraInfo(*info_);
+    CameraModel camera;
+    if (pose_file_) {
+      camera = cameraModelFromPose(*pose_file_, intrinsics, pose_file_path_);
+      const std::string child = pose_file_->child_frame_id.empty() ? blobs.header.frame_id : pose_file_->child_frame_id;
+      if (!static_tf_) {
+        static_tf_ = SharedStaticTf::get();
+        const auto t = toTransformStamped(pose_file_->field_T_camera, field_frame_, child, ros::Time::now());
+        static_tf_->send(t);
+        // Re-sent: another static broadcaster of this process may replace the latched message.
+        tf_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(2.0), [this, t](const ros::WallTimerEvent&) {
+          static_tf_->send(t);
+        });
+      }
+    } else {
+      const geometry_msgs::TransformStamped t =
+          tf_buffer_->lookupTransform(field_frame_, blobs.header.frame_id, ros::Time(0));
+      camera = CameraModel(intrinsics, fromTransform(t.transform));
+    }
+    identifier_ = std::make_shared<const FrameIdentifier>(camera, patterns_, FieldGeometry{}, params_);
+    identifier_frame_ = blobs.header.frame_id;
+    rebuild_ = false;
+    problem_.clear();
+  } catch (const std::exception& e) {
+    problem_ = e.what();
+    identifier_.reset();
+  }
+  return identifier_;
+}
+
+void IdentificationNodelet::drop(std::uint64_t& counter) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counter;
+}
+
+void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
+  const ros::WallTime start = ros::WallTime::now();
+  if (blobs->camera_id != camera_id_) {
+    NODELET_ERROR_THROTTLE(5.0, "blobs of camera %d, this nodelet is camera %d; frame dropped", blobs->camera_id,
+                           camera_id_);
+    drop(dropped_other_camera_);
+    return;
+  }
+  const std::shared_ptr<const FrameIdentifier> identifier = identifierFor(*blobs);
+  if (!identifier) {
+    std::string why;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      why = problem_;
+    }
+    NODELET_ERROR_THROTTLE(5.0, "no camera model for frame '%s': %s; frame dropped", blobs->header.frame_id.c_str(),
+                           why.c_str());
+    drop(dropped_no_camera_);
+    return;
+  }
+  auto out = boost::make_shared<CameraDetections>();
+  try {
+    const CameraFrameDetections d = identifier->identify(fromBlobArray(*blobs), blobs->header.stamp.toSec(),
+                                                         camera_id_, blobs->global_search);
+    toCameraDetections(d, blobs->header, *out);
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "identification failed: %s; frame dropped", e.what());
+    drop(dropped_error_);
+    return;
+  }
+  detections_pub_.publish(out);  // never touched after this
+  const double ms = msSince(start);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++frames_;
+  ++window_frames_;
+  window_robots_ += out->robots.size();
+  window_balls_ += out->balls.size();
+  window_ms_sum_ += ms;
+  window_ms_max_ = std::max(window_ms_max_, ms);
+}
+
+void IdentificationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double seconds = std::max((ros::WallTime::now() - window_start_).toSec(), 1e-6);
+  const double n = std::max<double>(window_frames_, 1);
+  if (!identifier_ && !problem_.empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "no camera model: " + problem_);
+  } else if (window_frames_ == 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no blobs received");
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "identifying");
+  }
+  stat.add("rate [Hz]", window_frames_ / seconds);
+  stat.add("processing time mean [ms]", window_ms_sum_ / n);
+  stat.add("processing time max [ms]", window_ms_max_);
+  stat.add("robots per frame", window_robots_ / n);
+  stat.add("ball candidates per frame", window_balls_ / n);
+  stat.add("frames", frames_);
+  stat.add("dropped: no camera model", dropped_no_camera_);
+  stat.add("dropped: other camera", dropped_other_camera_);
+  stat.add("dropped: errors", dropped_error_);
+  stat.add("pattern", pattern_name_);
+  stat.add("camera pose", pose_file_ ? "file " + pose_file_path_ : "tf " + field_frame_ + " -> " + identifier_frame_);
+  window_start_ = ros::WallTime::now();
+  window_frames_ = window_robots_ = window_balls_ = 0;
+  window_ms_sum_ = window_ms_max_ = 0;
+}
+
+}  // namespace soccer_vision
+
+PLUGINLIB_EXPORT_CLASS(soccer_vision::IdentificationNodelet, nodelet::Nodelet)

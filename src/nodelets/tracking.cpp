@@ -1,0 +1,392 @@
+// soccer_vision/Tracking: the detections of every camera -> tracked robots and ball (paper
+// §III-C), their tf frames and rviz markers, and the search windows fed back to each
+// camera's segmentation. A thin adapter over the core's Tracker, searchWindows and
+// GlobalSearchPolicy: one tracker for all cameras, so a robot in the overlap is one track.
+//
+// Parameters (private namespace ~; (dr) = also dynamic_reconfigure, cfg/Tracking.cfg):
+//   cameras           string[] ["/camera_0"]  Camera namespaces: <ns>/detections and
+//                                     <ns>/camera_info in, <ns>/search_windows out.
+//   field_frame       string  "field"
+//   publish_tf        bool    true    tf field -> robot/<team>_<id> (team-only tracks:
+//                                     robot/<team>_track<k>) and field -> ball.
+//   results_file      string  ""      DESIGN.md JSON Lines, one line per processed camera frame
+//                                     (robots and the primary ball at the frame's stamp).
+//   search_windows    bool    true    (dr) Feed windows back; false: every frame is searched whole.
+//   window_side       int     200     (dr) R [px] of a search window before enlargement.
+//   global_search_period int  30      (dr) Global search at least every n processed frames of a
+//                                     camera (and whenever an expected target was missed).
+//   robot_lost_timeout double 0.5     (dr) [s] without a measurement -> robot dropped.
+//   ball_lost_timeout double  0.5     (dr) [s] likewise for the ball.
+//   min_confidence    double  0.0     (dr) detections below are ignored.
+//   max_forward_jump  double  1.0     (dr) [s] a larger forward step of the stamps (paused or
+//                                     skipped bag) resets all tracks; a backward step always does.
+//   show_windows      bool    false   (dr) search windows as markers (projected on the field).
+//
+// Published (node namespace): robots (RobotPoseArray), balls (BallPoseArray, primary first),
+//   ball (BallPose, the primary ball; only while there is one), markers (MarkerArray),
+//   field_markers (MarkerArray, latched), <ns>/search_windows (SearchWindows) per camera;
+//   every header stamp = the capture stamp of the camera frame just processed.
+//   /tf, /diagnostics: rate, latency (capture stamp -> publish, mean/p50/p99), tracks,
+//   resets, outliers, global searches by reason.
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <boost/make_shared.hpp>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "soccer_vision/BallPose.h"
+#include "soccer_vision/BallPoseArray.h"
+#include "soccer_vision/CameraDetections.h"
+#include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/SearchWindows.h"
+#include "soccer_vision/TrackingConfig.h"
+#include "soccer_vision/global_search_policy.h"
+#include "soccer_vision/result_recording.h"
+#include "soccer_vision/ros/blob_conversions.h"
+#include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/detection_conversions.h"
+#include "soccer_vision/ros/field_markers.h"
+#include "soccer_vision/ros/transforms.h"
+#include "soccer_vision/search_windows.h"
+#include "soccer_vision/tracker.h"
+
+namespace soccer_vision {
+
+namespace {
+
+RobotPoseArray toRobotPoseArray(const TrackerOutput& out, const std_msgs::Header& header) {
+  RobotPoseArray msg;
+  msg.header = header;
+  msg.robots.reserve(out.robots.size());
+  for (const TrackedRobot& t : out.robots) {
+    RobotPose p;
+    p.header = header;
+    p.team = t.team == Team::Blue ? RobotPose::TEAM_BLUE : RobotPose::TEAM_YELLOW;
+    p.id = t.id < 0 ? 255 : static_cast<std::uint8_t>(std::min(t.id, 254));
+    p.x = t.x;
+    p.y = t.y;
+    p.theta = t.heading_valid ? t.theta : std::nan("");
+    p.vx = t.vx;
+    p.vy = t.vy;
+    p.omega = t.heading_valid ? t.omega : 0.0;
+    p.confidence = static_cast<float>(t.confidence);
+    p.camera_id = static_cast<std::uint8_t>(std::clamp(t.camera_id, 0, 255));
+    p.visible = t.visible;
+    msg.robots.push_back(p);
+  }
+  return msg;
+}
+
+BallPoseArray toBallPoseArray(const TrackerOutput& out, const std_msgs::Header& header) {
+  BallPoseArray msg;
+  msg.header = header;
+  for (const TrackedBall& t : out.balls) {
+    BallPose b;
+    b.header = header;
+    b.x = t.x;
+    b.y = t.y;
+    b.z = t.z;
+    b.vx = t.vx;
+    b.vy = t.vy;
+    b.confidence = static_cast<float>(t.confidence);
+    b.camera_id = static_cast<std::uint8_t>(std::clamp(t.camera_id, 0, 255));
+    b.visible = t.visible;
+    msg.balls.push_back(b);
+  }
+  return msg;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * (v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+class TrackingNodelet : public nodelet::Nodelet {
+ private:
+  struct Camera {
+    std::string ns;
+    ros::Subscriber detections_sub, info_sub;
+    ros::Publisher windows_pub;
+    sensor_msgs::CameraInfoConstPtr info;
+    std::optional<CameraModel> model;  // built from info + tf when first needed
+    bool model_stale = true;
+    GlobalSearchPolicy policy;
+    double last_stamp = 0, interval = 0;  // [s] EMA of the time between frames
+    int camera_id = -1;
+  };
+
+  void onInit() override;
+  void reconfigure(TrackingConfig& config, uint32_t level);
+  void detectionsCallback(Camera& camera, const CameraDetectionsConstPtr& msg);
+  void cameraInfoCallback(Camera& camera, const sensor_msgs::CameraInfoConstPtr& info);
+  const CameraModel* cameraModel(Camera& camera);
+  void publishWindows(Camera& camera, const std_msgs::Header& header, double stamp);
+  void publishTf(const TrackerOutput& out, const ros::Time& stamp);
+  void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::string field_frame_ = "field";
+  bool publish_tf_ = true;
+  std::vector<std::unique_ptr<Camera>> cameras_;
+  ros::Publisher robots_pub_, balls_pub_, ball_pub_, markers_pub_, field_markers_pub_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  std::unique_ptr<JsonLinesWriter> results_;
+
+  using ReconfigureServer = dynamic_reconfigure::Server<TrackingConfig>;
+  std::unique_ptr<ReconfigureServer> reconfigure_server_;
+  boost::recursive_mutex reconfigure_mutex_;
+
+  std::mutex mutex_;  // the tracker, the cameras' state, the settings and statistics below
+  Tracker tracker_;
+  TrackerParams tracker_params_;
+  SearchWindowParams window_params_;
+  GlobalSearchParams policy_params_;
+  bool use_windows_ = true, show_windows_ = false;
+  MarkerStyle marker_style_;
+  // Diagnostics.
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer diag_timer_;
+  ros::WallTime window_start_;
+  std::vector<double> latencies_ms_;
+  std::uint64_t frames_ = 0, window_frames_ = 0, global_frames_ = 0, windowed_frames_ = 0;
+  std::uint64_t no_camera_model_ = 0, results_errors_ = 0;
+};
+
+void TrackingNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  pnh.param("field_frame", field_frame_, std::string("field"));
+  pnh.param("publish_tf", publish_tf_, true);
+  std::vector<std::string> namespaces;
+  if (!pnh.getParam("cameras", namespaces) || namespaces.empty()) namespaces = {"/camera_0"};
+  std::string results_file;
+  pnh.param("results_file", results_file, std::string());
+  if (!results_file.empty()) {
+    try {
+      results_ = std::make_unique<JsonLinesWriter>(results_file);
+      NODELET_INFO("writing per-frame results to %s", results_file.c_str());
+    } catch (const std::exception& e) {
+      NODELET_ERROR("results_file: %s; results are not recorded", e.what());
+    }
+  }
+
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+  updater_->setHardwareID("tracker");
+  updater_->add("tracking", this, &TrackingNodelet::diagnostics);
+  window_start_ = ros::WallTime::now();
+  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
+
+  reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
+  reconfigure_server_->setCallback([this](TrackingConfig& c, uint32_t level) { reconfigure(c, level); });
+
+  robots_pub_ = nh.advertise<RobotPoseArray>("robots", 5);
+  balls_pub_ = nh.advertise<BallPoseArray>("balls", 5);
+  ball_pub_ = nh.advertise<BallPose>("ball", 5);
+  markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
+  field_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("field_markers", 1, true);
+  field_markers_pub_.publish(boost::make_shared<visualization_msgs::MarkerArray>(fieldMarkers(FieldGeometry{}, field_frame_)));
+
+  for (const std::string& ns : namespaces) {
+    auto camera = std::make_unique<Camera>();
+    camera->ns = ns;
+    camera->policy = GlobalSearchPolicy(policy_params_);
+    Camera* c = camera.get();
+    camera->windows_pub = nh.advertise<SearchWindows>(ns + "/search_windows", 2);
+    camera->info_sub = nh.subscribe<sensor_msgs::CameraInfo>(
+        ns + "/camera_info", 2, [this, c](const sensor_msgs::CameraInfoConstPtr& m) { cameraInfoCallback(*c, m); });
+    camera->detections_sub = nh.subscribe<CameraDetections>(
+        ns + "/detections", 5, [this, c](const CameraDetectionsConstPtr& m) { detectionsCallback(*c, m); });
+    cameras_.push_back(std::move(camera));
+  }
+}
+
+void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  tracker_params_.robot_lost_timeout = config.robot_lost_timeout;
+  tracker_params_.ball_lost_timeout = config.ball_lost_timeout;
+  tracker_params_.min_confidence = config.min_confidence;
+  tracker_params_.time.max_forward_jump = config.max_forward_jump;
+  try {
+    tracker_.setParams(tracker_params_);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("tracking parameters: %s; keeping the previous ones", e.what());
+    tracker_params_ = tracker_.params();
+  }
+  window_params_.side_px = config.window_side;
+  policy_params_.period_frames = config.global_search_period;
+  for (auto& c : cameras_) c->policy.setParams(policy_params_);
+  use_windows_ = config.search_windows;
+  show_windows_ = config.show_windows;
+}
+
+void TrackingNodelet::cameraInfoCallback(Camera& camera, const sensor_msgs::CameraInfoConstPtr& info) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!camera.info || camera.info->K != info->K || camera.info->D != info->D ||
+      camera.info->header.frame_id != info->header.frame_id || camera.info->width != info->width) {
+    camera.model_stale = true;
+  }
+  camera.info = info;
+}
+
+const CameraModel* TrackingNodelet::cameraModel(Camera& camera) {
+  if (!camera.model_stale && camera.model) return &*camera.model;
+  if (!camera.info) return nullptr;
+  try {
+    const auto t = tf_buffer_->lookupTransform(field_frame_, camera.info->header.frame_id, ros::Time(0));
+    camera.model = CameraModel(intrinsicsFromCameraInfo(*camera.info), fromTransform(t.transform));
+    camera.model_stale = false;
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "%s: no camera model for search windows (%s); its frames are searched whole",
+                           camera.ns.c_str(), e.what());
+    return nullptr;
+  }
+  return &*camera.model;
+}
+
+void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsConstPtr& msg) {
+  const CameraFrameDetections frame = fromCameraDetections(*msg);
+  std_msgs::Header header = msg->header;
+  header.frame_id = field_frame_;
+
+  auto robots = boost::make_shared<RobotPoseArray>();
+  auto balls = boost::make_shared<BallPoseArray>();
+  auto markers = boost::make_shared<visualization_msgs::MarkerArray>();
+  TrackerOutput out;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    camera.camera_id = frame.camera_id;
+    const TrackerUpdateReport report = tracker_.update(frame);
+    if (report.reset()) {
+      NODELET_WARN("tracker reset: %s of the stamps (camera %d, %.3f s)", timeEventName(report.time.event),
+                   frame.camera_id, frame.stamp);
+      for (auto& c : cameras_) c->policy.restart();
+    }
+    camera.policy.observe(report);
+    if (!report.processed()) return;  // late or invalid frame: nothing new to publish
+    out = tracker_.output(frame.stamp);
+    *robots = toRobotPoseArray(out, header);
+    *balls = toBallPoseArray(out, header);
+    appendGameMarkers(*robots, *balls, marker_style_, *markers);
+    ++frames_;
+    ++window_frames_;
+    (msg->global_search ? global_frames_ : windowed_frames_)++;
+    if (camera.last_stamp > 0 && frame.stamp > camera.last_stamp) {
+      const double dt = frame.stamp - camera.last_stamp;
+      camera.interval = camera.interval > 0 ? 0.9 * camera.interval + 0.1 * dt : dt;
+    }
+    camera.last_stamp = frame.stamp;
+    publishWindows(camera, header, frame.stamp);
+    if (results_) {
+      try {
+        results_->write(toFrameRecord(out));
+      } catch (const std::exception& e) {
+        ++results_errors_;
+        NODELET_ERROR_THROTTLE(5.0, "results_file: %s", e.what());
+      }
+    }
+  }
+  robots_pub_.publish(robots);  // never touched after publishing
+  balls_pub_.publish(balls);
+  if (const TrackedBall* primary = out.primaryBall()) {
+    (void)primary;
+    ball_pub_.publish(boost::make_shared<BallPose>(balls->balls.front()));
+  }
+  markers_pub_.publish(markers);
+  if (publish_tf_) publishTf(out, header.stamp);
+  const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
+  std::lock_guard<std::mutex> lock(mutex_);
+  latencies_ms_.push_back(latency_ms);
+}
+
+// The windows for this camera's next frame (mutex held).
+void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& header, double stamp) {
+  const double interval = camera.interval > 0 ? camera.interval : 1.0 / 60;
+  auto msg = boost::make_shared<SearchWindows>();
+  msg->header = header;
+  msg->header.stamp.fromSec(stamp + interval);  // the frame these predictions are for
+  msg->camera_id = static_cast<std::uint8_t>(std::clamp(camera.camera_id, 0, 255));
+  const CameraModel* model = use_windows_ ? cameraModel(camera) : nullptr;
+  std::vector<SearchWindow> windows;
+  if (model) windows = searchWindows(tracker_.output(stamp + interval), *model, interval, window_params_);
+  else if (use_windows_) ++no_camera_model_;
+  const GlobalSearchReason reason =
+      camera.policy.decide(windows, tracker_.numRobotTracks() + tracker_.numBallTracks());
+  msg->global_search = !model || reason != GlobalSearchReason::None;
+  if (!msg->global_search) {
+    for (const SearchWindow& w : windows) msg->windows.push_back(toRegionOfInterest(w.rect));
+  }
+  camera.windows_pub.publish(msg);
+}
+
+void TrackingNodelet::publishTf(const TrackerOutput& out, const ros::Time& stamp) {
+  std::vector<geometry_msgs::TransformStamped> transforms;
+  for (const TrackedRobot& r : out.robots) {
+    const std::string name = std::string(teamName(r.team)) + "_" +
+                             (r.id >= 0 ? std::to_string(r.id) : "track" + std::to_string(r.track_id));
+    transforms.push_back(planarTransform(r.x, r.y, 0.150, r.heading_valid ? r.theta : 0.0, field_frame_,
+                                         "robot/" + name, stamp));
+  }
+  if (const TrackedBall* b = out.primaryBall()) {
+    transforms.push_back(planarTransform(b->x, b->y, b->z, 0.0, field_frame_, "ball", stamp));
+  }
+  if (!transforms.empty()) tf_broadcaster_->sendTransform(transforms);
+}
+
+void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double seconds = std::max((ros::WallTime::now() - window_start_).toSec(), 1e-6);
+  if (window_frames_ == 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no detections received");
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "tracking");
+  }
+  double mean = 0;
+  for (double l : latencies_ms_) mean += l;
+  mean /= std::max<std::size_t>(latencies_ms_.size(), 1);
+  stat.add("rate [Hz]", window_frames_ / seconds);
+  stat.add("latency capture -> publish mean [ms]", mean);
+  stat.add("latency p50 [ms]", percentile(latencies_ms_, 0.5));
+  stat.add("latency p99 [ms]", percentile(latencies_ms_, 0.99));
+  stat.add("robot tracks", tracker_.numRobotTracks());
+  stat.add("ball tracks", tracker_.numBallTracks());
+  const TrackerStats& s = tracker_.stats();
+  stat.add("frames", s.frames);
+  stat.add("frames dropped (late/invalid stamps)", s.dropped_frames);
+  stat.add("resets (time jumps)", s.resets);
+  stat.add("robot outliers", s.robot_outliers);
+  stat.add("ball kicks", s.ball_kicks);
+  stat.add("frames searched whole", global_frames_);
+  stat.add("frames searched in windows", windowed_frames_);
+  stat.add("windows without camera model", no_camera_model_);
+  if (results_) stat.add("results lines", results_->written());
+  window_start_ = ros::WallTime::now();
+  window_frames_ = 0;
+  latencies_ms_.clear();
+}
+
+}  // namespace soccer_vision
+
+PLUGINLIB_EXPORT_CLASS(soccer_vision::TrackingNodelet, nodelet::Nodelet)
