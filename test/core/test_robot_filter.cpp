@@ -110,6 +110,29 @@ TEST(RobotFilter, HeadingWrapsAcrossPi) {
   EXPECT_LT(worst, 0.01);
 }
 
+TEST(RobotFilter, StillRobotFacingPiWithNoisyHeadings) {
+  // Measurements scatter on both sides of +-pi: every innovation must be taken the short way.
+  RobotFilterParams p;
+  std::mt19937 rng(2);
+  std::normal_distribution<double> noise(0.0, p.sigma_theta);
+  RobotFilter f(p, {1.0, 1.0, M_PI, true});
+  double sq = 0, worst = 0;
+  int wrapped = 0;
+  for (int k = 1; k <= 300; ++k) {
+    f.predict(kDt);
+    const double z = wrapToPi(M_PI + noise(rng));
+    wrapped += z < 0;
+    EXPECT_EQ(f.update({1.0, 1.0, z, true}), GateResult::Accepted) << "frame " << k;
+    const double error = std::abs(wrapToPi(f.state()(2) - M_PI));
+    sq += error * error;
+    worst = std::max(worst, error);
+  }
+  EXPECT_GT(wrapped, 100);  // about half the measurements are near -pi
+  EXPECT_LT(std::sqrt(sq / 300), 0.8 * p.sigma_theta);
+  EXPECT_LT(worst, 3 * p.sigma_theta);
+  EXPECT_NEAR(f.state()(5), 0.0, 0.3);
+}
+
 TEST(RobotFilter, PredictionsComposeExactly) {
   RobotFilter a({}, {1, 2, 0.5, true}), b({}, {1, 2, 0.5, true});
   a.update({1.01, 2.0, 0.5, true});

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "soccer_vision/field_geometry.h"
+#include "soccer_vision/global_search_policy.h"
 #include "soccer_vision/search_windows.h"
 #include "soccer_vision/tracker.h"
 
@@ -164,4 +165,36 @@ TEST(SearchWindows, GrowWithUncertaintyAndBallSpeed) {
   SearchWindowParams bad;
   bad.side_px = 0;
   EXPECT_THROW(searchWindows(balls, camera, 0.1, bad), std::invalid_argument);
+}
+
+TEST(SearchWindows, GlobalSearchWhenATargetExpectedInThisCameraIsMissing) {
+  const FieldGeometry field;
+  const auto cam0 = CameraModel::defaultCamera(field, 0);
+  Tracker tracker;
+  GlobalSearchPolicy policy({1000});  // no periodic search in this test
+  auto frame = [](int k, bool with_left, bool with_right) {
+    CameraFrameDetections f;
+    f.stamp = kT0 + k / 60.0;
+    f.camera_id = 0;
+    RobotDetection left, right;
+    left.team = right.team = Team::Blue;
+    left.id = 0;
+    left.x = -2.0;   // in camera 0's view
+    right.id = 1;
+    right.x = 3.0;   // in camera 1's half: camera 0 is not expected to see it
+    left.confidence = right.confidence = 0.9;
+    if (with_left) f.robots.push_back(left);
+    if (with_right) f.robots.push_back(right);
+    return f;
+  };
+  auto step = [&](int k, bool with_left) {
+    policy.observe(tracker.update(frame(k, with_left, k == 0)));
+    const auto windows = searchWindows(tracker.output(kT0 + (k + 1) / 60.0), cam0, 1.0 / 60);
+    return policy.decide(windows, tracker.numRobotTracks() + tracker.numBallTracks());
+  };
+  EXPECT_EQ(step(0, true), GlobalSearchReason::First);
+  for (int k = 1; k < 10; ++k) EXPECT_EQ(step(k, true), GlobalSearchReason::None) << k;  // blue 1 unseen: fine
+  EXPECT_EQ(step(10, false), GlobalSearchReason::TargetMissing);  // blue 0 missed in its window
+  EXPECT_EQ(step(11, true), GlobalSearchReason::None);
+  ASSERT_EQ(tracker.numRobotTracks(), 2u);
 }
