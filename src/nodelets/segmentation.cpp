@@ -31,6 +31,8 @@
 //                                     request gives 0).
 //   threshold_h       double  15      (dr) ~calibrate: hue distance [deg] of valid samples
 //                                     (when the request gives 0).
+//   frame_step        int     1       (dr) Process every n-th frame (the paper's sampling);
+//                                     the others are skipped (counted in diagnostics).
 //   search_window_max_age double 0.5  [s] search_windows older than this (image stamp minus
 //                                     windows stamp) are ignored: whole-frame search.
 //   queue_size        int     2       image_raw subscription queue.
@@ -70,8 +72,11 @@
 //                      frame as the illumination reference; swapped in atomically and written
 //                      to a file when `save`. Failure: success false, the previous table stays.
 //   ~set_parameters    dynamic_reconfigure.
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -104,6 +109,7 @@
 #include "soccer_vision/color_table.h"
 #include "soccer_vision/exchange_formats.h"
 #include "soccer_vision/frame_source.h"
+#include "soccer_vision/frame_step.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/segmenter.h"
 
@@ -197,12 +203,14 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::shared_ptr<const SegmentationModel> model_;
 
   // Image callback (serialised by the subscription): the segmenter and its result buffer.
+  FrameStep frame_step_;
   Segmenter segmenter_;
   SegmentationResult result_;
 
   // Set by reconfigure, applied by the image callback / read by ~calibrate.
   std::mutex config_mutex_;
   SegmentationParams params_;
+  int frame_step_setting_ = 1;
   bool params_changed_ = false;
   double threshold_lab_ = 20.0, threshold_h_ = 15.0;
   std::string color_table_path_;
@@ -236,7 +244,7 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0,
                 dropped_error_ = 0;
   std::uint64_t window_dropped_ = 0;
-  std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0;
+  std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0, skipped_by_frame_step_ = 0;
   std::string last_bad_encoding_;
 };
 
@@ -306,6 +314,7 @@ void SegmentationNodelet::reconfigure(SegmentationConfig& config, uint32_t /*lev
   {
     std::lock_guard<std::mutex> lock(config_mutex_);
     params_ = toSegmentationParams(config);
+    frame_step_setting_ = std::max(1, config.frame_step);
     params_changed_ = true;
     threshold_lab_ = config.threshold_lab;
     threshold_h_ = config.threshold_h;
@@ -332,12 +341,32 @@ void SegmentationNodelet::requestLoad(const std::string& path) {
 
 void SegmentationNodelet::loaderLoop() {
   std::unique_lock<std::mutex> lock(load_mutex_);
+  std::optional<std::string> retry;  // a file that did not exist yet, while there is no table
   while (true) {
-    load_cv_.wait(lock, [this] { return stopping_ || pending_load_.has_value(); });
+    auto wake = [this] { return stopping_ || pending_load_.has_value(); };
+    if (retry) {
+      if (!load_cv_.wait_for(lock, std::chrono::seconds(1), wake)) pending_load_ = retry;
+    } else {
+      load_cv_.wait(lock, wake);
+    }
     if (stopping_) return;
     const std::string path = *pending_load_;
     pending_load_.reset();
+    retry.reset();
     lock.unlock();
+    // Without any table, a file that does not exist yet (being written by a calibration
+    // started at the same time, e.g. the demo's) is waited for, with the error once.
+    if (!model() && access(path.c_str(), F_OK) != 0) {
+      if (!last_load_failed_) NODELET_ERROR("color_table %s does not exist (yet): waiting for it", path.c_str());
+      last_load_failed_ = true;
+      {
+        std::lock_guard<std::mutex> state(state_mutex_);
+        table_error_ = "waiting for " + path;
+      }
+      lock.lock();
+      retry = path;
+      continue;
+    }
     try {
       auto table = std::make_shared<const ColorTable>(ColorTable::load(path));
       // Costly (fills the lookup tables): built here, outside every lock, then swapped.
@@ -439,8 +468,14 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     std::lock_guard<std::mutex> lock(config_mutex_);
     if (params_changed_) {
       segmenter_.setParams(params_);
+      if (frame_step_.step() != frame_step_setting_) frame_step_.setStep(frame_step_setting_);
       params_changed_ = false;
     }
+  }
+  if (!frame_step_.process()) {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    ++skipped_by_frame_step_;
+    return;
   }
   const std::vector<cv::Rect> windows = searchWindows(image->header.stamp);
   try {
@@ -592,6 +627,7 @@ void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrappe
   }
   stat.add("frames processed", frames_processed_);
   stat.add("frames with search windows", windowed_frames_);
+  stat.add("frames skipped by frame_step", skipped_by_frame_step_);
   stat.add("dropped: unsupported encoding", dropped_encoding_);
   if (!last_bad_encoding_.empty()) stat.add("last unsupported encoding", last_bad_encoding_);
   stat.add("dropped: empty/truncated image", dropped_bad_image_);
