@@ -23,9 +23,10 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const Region& region = regions[r];
     if (region.color != params_.color || (r < region_used.size() && region_used[r])) continue;
+    if (region.area == 0 || !std::isfinite(region.cx) || !std::isfinite(region.cy)) continue;
     const Eigen::Vector2d pixel(region.cx, region.cy);
     const auto p = camera_.pixelToField(pixel, params_.radius);
-    if (p) fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area)});
+    if (p && p->allFinite()) fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area)});
   }
   std::vector<int> cluster(fragments.size());
   for (std::size_t i = 0; i < fragments.size(); ++i) cluster[i] = static_cast<int>(i);

@@ -302,6 +302,28 @@ TEST(RobotIdentification, StrayBlobsAreNotRobots) {
   for (const auto& d : found) EXPECT_GT(std::hypot(d.x - r1.x, d.y - r1.y), 0.1);
 }
 
+// Corrupt regions (NaN centroid or moments, zero area) are ignored, never a crash or a NaN robot.
+TEST(RobotIdentification, CorruptRegionsAreIgnored) {
+  const PatternSet p = PatternSet::twoTag();
+  const std::vector<RobotState> one = {robot(Team::Blue, 2, -2.0, 0.5, 60)};
+  auto regions = regionsOf(p, one);
+  Region nan_centre = regions[0], nan_moment = regions[1], empty = regions[1];
+  nan_centre.cx = std::nan("");
+  nan_moment.mu11 = std::nan("");
+  empty.area = 0;
+  Region far_away = regions[0];
+  far_away.cx = 1e12;
+  regions.insert(regions.end(), {nan_centre, nan_moment, empty, far_away});
+  const FrameIdentifier identify(kCamera, p, kField);
+  const auto d = identify.identify(regions);
+  ASSERT_EQ(d.robots.size(), 1u);
+  EXPECT_EQ(d.robots[0].id, 2);
+  EXPECT_TRUE(std::isfinite(d.robots[0].x) && std::isfinite(d.robots[0].theta));
+  Region nan_ball = ballRegion(kCamera, {-1, 1, 0.0215});
+  nan_ball.cy = std::nan("");
+  EXPECT_TRUE(identify.identify({nan_ball}).balls.empty());
+}
+
 // The team tag alone is symmetric: its axis says the heading modulo 180°. Headings all
 // round the circle, and a robot turned by exactly 180° at the same place, come out right.
 TEST(RobotIdentification, HeadingAmbiguityOfTheTeamTagIsResolvedByTheRoleTag) {
