@@ -1,5 +1,7 @@
 // Ball candidates (paper §III-D / issue 4): orange regions that no robot pattern used,
-// projected to the plane of the ball centre (21.5 mm), kept when they lie on the carpet
+// projected to the plane of the ball centre (21.5 mm), fragments within merge_distance of
+// each other joined (a ball moving more than its diameter per exposure is a streak that
+// segmentation may cut in pieces), kept when they lie on the carpet
 // (plus a margin) and their pixel area is plausible for a 43 mm sphere at that place of
 // the image (its silhouette projected through the camera model). Several candidates may
 // remain; each gets a confidence from its area ratio, best first.
@@ -21,6 +23,7 @@ struct BallDetectionParams {
   double area_ratio_max = 3.0;
   double area_sigma = 0.5;         // scoring scale of ln(observed / expected area)
   double field_margin = 0.10;      // m beyond the carpet (playing area + boundary)
+  double merge_distance = 0.06;    // m: orange fragments closer than this are one ball
   int max_candidates = 4;          // best first; 0 = all
   double min_confidence = 0.02;
 };

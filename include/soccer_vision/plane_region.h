@@ -29,7 +29,8 @@ struct PlaneRegion {
 std::optional<Eigen::Matrix2d> pixelToPlaneJacobian(const CameraModel& camera, const Eigen::Vector2d& pixel,
                                                     double plane_z);
 
-// nullopt where the centroid's ray misses the plane.
+// nullopt where the centroid's ray misses the plane, or for a region with a zero area or
+// non-finite centroid / moments.
 std::optional<PlaneRegion> projectToPlane(const Region& region, const CameraModel& camera, double plane_z);
 
 }  // namespace soccer_vision

@@ -38,7 +38,7 @@ struct RobotIdentificationParams {
   double position_sigma = 0.004;     // m: marker centroid scatter expected (scoring scale)
   double axis_gate_deg = 20.0;       // deg: max team-tag minor axis vs fitted heading (mod 180°)
   double axis_sigma_deg = 4.0;       // deg: scoring scale of that difference
-  double axis_weight = 0.5;          // share of the team-tag axis in the heading (0 = markers only)
+  double axis_weight = 0.25;         // share of the team-tag axis in the heading (0 = markers only)
   double min_elongation = 1.6;       // team region sqrt(eigenvalue ratio) needed to use its axis
   double area_ratio_gate = 2.5;      // observed / expected pixel area within [1/g, g]
   double area_sigma = 0.35;          // scoring scale of ln(observed / expected area)

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 
 namespace soccer_vision {
 
@@ -21,20 +20,26 @@ std::optional<Eigen::Matrix2d> pixelToPlaneJacobian(const CameraModel& camera, c
 }
 
 std::optional<PlaneRegion> projectToPlane(const Region& region, const CameraModel& camera, double plane_z) {
+  // Corrupt input (a bad message) must not turn into NaN poses downstream.
+  if (!std::isfinite(region.cx) || !std::isfinite(region.cy) || !std::isfinite(region.mu20) ||
+      !std::isfinite(region.mu11) || !std::isfinite(region.mu02) || region.area == 0) {
+    return std::nullopt;
+  }
   const Eigen::Vector2d pixel(region.cx, region.cy);
   const auto centre = camera.pixelToField(pixel, plane_z);
   const auto j = pixelToPlaneJacobian(camera, pixel, plane_z);
-  if (!centre || !j) return std::nullopt;
+  if (!centre || !j || !centre->allFinite() || !j->allFinite()) return std::nullopt;
   PlaneRegion out;
   out.centre = centre->head<2>();
   Eigen::Matrix2d m;
   m << region.mu20, region.mu11, region.mu11, region.mu02;
   out.covariance = *j * m * j->transpose();
   out.area = region.area * std::abs(j->determinant());
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(out.covariance);
-  const Eigen::Vector2d minor = eig.eigenvectors().col(0);  // eigenvalues ascending
-  out.minor_axis_angle = std::atan2(minor.y(), minor.x());
-  const double lo = std::max(eig.eigenvalues()[0], 1e-18), hi = std::max(eig.eigenvalues()[1], 1e-18);
+  // Closed-form eigen decomposition of the symmetric 2x2 moment matrix.
+  const double a = out.covariance(0, 0), b = out.covariance(0, 1), c = out.covariance(1, 1);
+  const double mean = (a + c) / 2, radius = std::hypot((a - c) / 2, b);
+  out.minor_axis_angle = 0.5 * std::atan2(2 * b, a - c) + M_PI / 2;  // major axis + 90°
+  const double lo = std::max(mean - radius, 1e-18), hi = std::max(mean + radius, 1e-18);
   out.elongation = std::sqrt(hi / lo);
   return out;
 }

@@ -96,9 +96,15 @@ class Matcher {
       if (h.id >= 0 && taken.count({team_id, h.id})) return;
       out.push_back(std::move(h));
     };
+    // Id markers within reach of this team marker: the only ones any slot can take.
+    std::vector<int> near;
+    for (int c : id_markers_) {
+      if (c != t && !used[c] && (observed_[c].plane.centre - team.plane.centre).norm() <= max_reach_ + params_.marker_gate) {
+        near.push_back(c);
+      }
+    }
     if (!pattern_.slots.empty()) {
-      for (int c : id_markers_) {
-        if (c == t || used[c]) continue;
+      for (int c : near) {
         const Eigen::Vector2d d = observed_[c].plane.centre - team.plane.centre;
         const double dist = d.norm();
         if (dist > max_reach_) continue;
@@ -113,11 +119,11 @@ class Matcher {
           seed.y = team.plane.centre.y() - offset.y();
           Hypothesis h;
           h.team = t;
-          h.slot_obs = assignSlots(seed, t, used);
+          h.slot_obs = assignSlots(seed, near);
           if (h.slot_obs[s] < 0) continue;  // the seed itself did not survive the assignment
           // Refit and reassign once: the seed pose rests on two centroids only.
           if (!fit(h)) continue;
-          h.slot_obs = assignSlots(h.pose, t, used);
+          h.slot_obs = assignSlots(h.pose, near);
           consider(std::move(h));
         }
       }
@@ -134,9 +140,9 @@ class Matcher {
   }
 
  private:
-  // Nearest unused id-colour region within the gate of each predicted slot, one-to-one,
-  // closest pairs first.
-  std::vector<int> assignSlots(const Pose2d& pose, int t, const std::vector<char>& used) const {
+  // Nearest of the candidate id-colour regions within the gate of each predicted slot,
+  // one-to-one, closest pairs first.
+  std::vector<int> assignSlots(const Pose2d& pose, const std::vector<int>& candidates) const {
     struct Pair {
       double d;
       std::size_t slot;
@@ -145,8 +151,8 @@ class Matcher {
     std::vector<Pair> pairs;
     for (std::size_t s = 0; s < pattern_.slots.size(); ++s) {
       const Eigen::Vector2d p = pose.apply({pattern_.slots[s].x, pattern_.slots[s].y});
-      for (int c : id_markers_) {
-        if (c == t || used[c] || !slot_colors_[s].count(observed_[c].color)) continue;
+      for (int c : candidates) {
+        if (!slot_colors_[s].count(observed_[c].color)) continue;
         const double d = (observed_[c].plane.centre - p).norm();
         if (d <= params_.marker_gate) pairs.push_back({d, s, c});
       }
@@ -201,35 +207,36 @@ class Matcher {
     return true;
   }
 
-  // Fit, gate and score; false when the hypothesis is implausible.
+  // Fit, gate and score; false when the hypothesis is implausible. Cheap gates first
+  // (completeness, positions, axis), the projected areas last.
   bool evaluate(Hypothesis& h) const {
+    int matched = 0;
+    for (int o : h.slot_obs) matched += o >= 0;
+    const int missing = static_cast<int>(pattern_.slots.size()) - matched;
+    if (missing > params_.max_missing_markers && !params_.report_unidentified) return false;
     if (!fit(h)) return false;
     const Observed& team = observed_[h.team];
     double cost = 0;
     int terms = 0;
-    auto marker = [&](const MarkerShape& shape, const Observed& o, bool positional) {
-      if (positional) {
-        const double r = (o.plane.centre - h.pose.apply({shape.x, shape.y})).norm();
-        if (r > params_.marker_gate) return false;
-        cost += (r / params_.position_sigma) * (r / params_.position_sigma);
-        ++terms;
-      }
+    auto position = [&](const MarkerShape& shape, const Observed& o) {
+      const double r = (o.plane.centre - h.pose.apply({shape.x, shape.y})).norm();
+      cost += (r / params_.position_sigma) * (r / params_.position_sigma);
+      ++terms;
+      return r <= params_.marker_gate;
+    };
+    auto area = [&](const MarkerShape& shape, const Observed& o) {
       const double expected = expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta,
                                                  pattern_.robot_height);
       if (expected <= 0) return false;
       const double ratio = o.area_px / expected;
-      if (ratio > params_.area_ratio_gate || ratio < 1.0 / params_.area_ratio_gate) return false;
       const double l = std::log(ratio) / params_.area_sigma;
       cost += l * l;
       ++terms;
-      return true;
+      return ratio <= params_.area_ratio_gate && ratio >= 1.0 / params_.area_ratio_gate;
     };
-    if (!marker(pattern_.team_marker, team, h.heading_valid)) return false;
-    int matched = 0;
+    if (h.heading_valid && !position(pattern_.team_marker, team)) return false;
     for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
-      if (h.slot_obs[s] < 0) continue;
-      ++matched;
-      if (!marker(pattern_.slots[s], observed_[h.slot_obs[s]], true)) return false;
+      if (h.slot_obs[s] >= 0 && !position(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
     }
     if (teamAxisUsable(team) && h.heading_valid) {
       const double d = std::remainder(team.plane.minor_axis_angle - *team_axis_ - h.pose.theta, M_PI);
@@ -237,8 +244,6 @@ class Matcher {
       cost += l * l;
       ++terms;
     }
-    const int missing = static_cast<int>(pattern_.slots.size()) - matched;
-
     // Ids compatible with the colours seen.
     std::vector<int> compatible;
     for (std::size_t id = 0; id < pattern_.ids.size(); ++id) {
@@ -253,6 +258,11 @@ class Matcher {
     const bool id_known = has_ids && compatible.size() == 1 && missing <= params_.max_missing_markers;
     h.id = id_known ? compatible.front() : -1;
     if (has_ids && !id_known && !params_.report_unidentified) return false;
+
+    if (!area(pattern_.team_marker, team)) return false;
+    for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
+      if (h.slot_obs[s] >= 0 && !area(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
+    }
 
     h.confidence = std::exp(-0.5 * cost / std::max(terms, 1)) * std::pow(params_.missing_marker_factor, missing);
     if (has_ids && !id_known) h.confidence = std::min(h.confidence, 0.2);

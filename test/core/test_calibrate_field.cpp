@@ -94,17 +94,16 @@ TEST_F(CalibrateField, BadInputGivesNonZeroExitAndAClearMessage) {
   ToolRun r = run("--camera-info " + info + " --points " + kDir + "/three.yaml --out " + out);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("at least 4"), std::string::npos) << r.output;
-  // Collinear points: the landmarks on one line (same field y).
+  // Collinear points: the landmarks on the half-way line (x = 0).
   std::vector<FieldCorrespondence> line;
   for (const auto& p : all) {
-    if (std::abs(p.field.y() - all.front().field.y()) < 1e-9) line.push_back(p);
+    if (std::abs(p.field.x()) < 1e-9) line.push_back(p);
   }
-  if (line.size() >= 4) {
-    writeTextFile(kDir + "/line.yaml", toYaml(line));
-    r = run("--camera-info " + info + " --points " + kDir + "/line.yaml --out " + out);
-    EXPECT_EQ(r.status, 2);
-    EXPECT_NE(r.output.find("collinear"), std::string::npos) << r.output;
-  }
+  ASSERT_GE(line.size(), 4u);
+  writeTextFile(kDir + "/line.yaml", toYaml(line));
+  r = run("--camera-info " + info + " --points " + kDir + "/line.yaml --out " + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("collinear"), std::string::npos) << r.output;
   // Corrupt files name themselves.
   writeTextFile(kDir + "/corrupt.yaml", "points: [ {pixel: [1, 2], field: \n");
   r = run("--camera-info " + info + " --points " + kDir + "/corrupt.yaml --out " + out);
