@@ -3,9 +3,11 @@
 //  - a result robot *matches* a ground-truth robot of the same team and id whose centre is
 //    within max_distance (50 mm) of it; each ground-truth robot is matched at most once;
 //  - detection rate = matched / ground-truth robots with visible != false;
-//  - precision = matched / result robots that are not excused, where a result is excused
-//    when it lies within max_distance of a ground-truth robot of the same team and id
-//    that is not visible (a track coasting out of view is not a false positive);
+//  - precision = matched / result robots that are not excused. A result is excused when
+//    it lies within max_distance of a ground-truth robot of the same team and id that is
+//    not visible, or when it says it was not measured in this frame (visible false: a
+//    track coasting on its prediction) and that robot is not visible in the ground truth:
+//    a prediction of a robot out of view claims nothing that could be seen;
 //  - an identity error is a result that matches nothing but lies within max_distance of a
 //    ground-truth robot of another team or id (also a false positive);
 //  - position and heading errors over matched robots (heading: wrapped difference,

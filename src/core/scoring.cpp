@@ -11,6 +11,14 @@ namespace {
 double ratio(std::int64_t a, std::int64_t b) { return b > 0 ? static_cast<double>(a) / b : 1.0; }
 double rms(double sum_sq, std::int64_t n) { return n > 0 ? std::sqrt(sum_sq / n) : 0.0; }
 
+// The ground truth shows the robot of this team and id in view.
+bool identityVisible(const FrameRecord& truth, const RobotRecord& r) {
+  for (const RobotRecord& t : truth.robots) {
+    if (t.team == r.team && t.id == r.id && t.visible.value_or(true)) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 double Score::robotDetectionRate() const { return ratio(matched_robots, truth_robots); }
@@ -68,6 +76,10 @@ Score scoreFrame(const FrameRecord& truth, const FrameRecord& result, const Scor
       }
     }
     if (best < 0) {
+      if (!r.visible.value_or(true) && !identityVisible(truth, r)) {
+        ++s.excused_robots;
+        continue;
+      }
       ++s.false_robots;
       s.identity_errors += near_other;
       continue;

@@ -1,6 +1,6 @@
 // calibrate_synthetic: the colour table of the built-in synthetic camera, calibrated
-// exactly as a team calibrates a real one (calibrate_colors' method) on the first frame
-// of a scenario, with the simulator's sample polygons (markers, ball, carpet, lines,
+// exactly as a team calibrates a real one (calibrate_colors' method) on frames of the first
+// seconds of a scenario (6 frames, 1.5 s apart), with the simulator's sample polygons (markers, ball, carpet, lines,
 // robot tops) instead of hand-drawn ones. The demo launch runs it at start-up so that the
 // pipeline has a table without any file shipped.
 //
@@ -10,10 +10,13 @@
 // Bayer scenarios are calibrated on the colour image the mosaic samples (the classifier
 // reads each 2x2 quad as one colour). The file is written to a temporary name and renamed,
 // so a reader never sees half a table. Exit status 0, or 2 with a message.
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "soccer_vision/calibration_samples.h"
 #include "soccer_vision/color_calibration.h"
@@ -25,6 +28,9 @@
 namespace sv = soccer_vision;
 
 namespace {
+
+constexpr int kFrames = 6;                 // calibration frames ...
+constexpr double kSecondsBetween = 1.5;    // ... this far apart in scene time
 
 struct Options {
   std::string out, scenario;
@@ -76,13 +82,20 @@ int main(int argc, char** argv) {
     scenario.sensor.bayer.clear();  // the colour image the mosaic samples
     const sv::FieldGeometry field;
     const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
-    const sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+    sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
     const sv::FieldRenderer renderer(sv::CameraModel::defaultCamera(field, o.camera, scenario.width, scenario.height),
                                      field, patterns, scenario);
-    sv::RenderedFrame frame;
-    renderer.render(sim.state(), 0, frame);
-    const sv::ColorSamples samples = sv::calibrationSamples(sim.state(), renderer.camera(), field, patterns);
-    const sv::ColorTable table = sv::calibrateColorTable({{frame.image, samples}});
+    // Several frames of the first seconds, as a team calibrates on a few frames of a
+    // warm-up: one frame shows only the robots and ball that happen to be in this half.
+    std::vector<sv::CalibrationImage> images;
+    const int steps_between = static_cast<int>(std::lround(kSecondsBetween * scenario.fps));
+    for (int i = 0; i < kFrames; ++i) {
+      sv::RenderedFrame frame;
+      renderer.render(sim.state(), static_cast<std::int64_t>(i) * steps_between, frame);
+      images.push_back({frame.image.clone(), sv::calibrationSamples(sim.state(), renderer.camera(), field, patterns)});
+      for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
+    }
+    const sv::ColorTable table = sv::calibrateColorTable(images);
     const std::string temporary = o.out + ".partial";
     table.save(temporary);
     if (std::rename(temporary.c_str(), o.out.c_str()) != 0) throw std::runtime_error("cannot rename " + temporary + " to " + o.out);

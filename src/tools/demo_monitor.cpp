@@ -12,8 +12,14 @@
 //   ~duration  double 10           [s] run time (the --duration option wins); 0 = until Ctrl-C
 //   ~snapshot  string "./soccer_vision_snapshot.png"  annotated PNG of the last frame
 //
+//   ~vision    string "/vision"    namespace of the tracking outputs: subscribes
+//                                   <vision>/robots and <vision>/balls
+//
 // Summary: frames received, rate [Hz], latency (receipt - capture stamp: mean, p99, max),
-// visible robots/balls per frame from the ground truth, encoding and resolution.
+// visible robots/balls per frame from the ground truth, encoding and resolution; and, when
+// the tracking outputs arrive, their rate and latency (capture stamp -> receipt, p50/p99)
+// and their score against the ground truth of the same stamps (scoring.h: detection rate,
+// precision, identity errors, position and heading RMSE, ball detection and RMSE).
 // Exit status: 0 after a run with frames, 1 when no frame arrived, 2 on bad arguments,
 // 3 when the snapshot could not be written.
 #include <algorithm>
@@ -38,6 +44,8 @@
 #include "soccer_vision/camera_model.h"
 #include "soccer_vision/field_geometry.h"
 #include "soccer_vision/frame_source.h"
+#include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/scoring.h"
 
 namespace sv = soccer_vision;
 
@@ -54,6 +62,25 @@ struct Monitor {
   std::map<ros::Time, soccer_vision::RobotPoseArrayConstPtr> robots;  // recent, by stamp
   std::map<ros::Time, soccer_vision::BallPoseArrayConstPtr> balls;
   std::size_t gt_frames = 0, visible_robot_sum = 0, visible_ball_sum = 0;
+  // Tracking outputs and the ground truth they are scored against, by stamp.
+  std::map<ros::Time, soccer_vision::RobotPoseArrayConstPtr> truth_robots, result_robots;
+  std::map<ros::Time, soccer_vision::BallPoseArrayConstPtr> truth_balls, result_balls;
+  std::vector<double> result_latencies;  // [s]
+  ros::WallTime first_result, last_result;
+
+  void resultRobots(const soccer_vision::RobotPoseArrayConstPtr& msg) {
+    const ros::WallTime now = ros::WallTime::now();
+    const double latency = ros::Time::now().toSec() - msg->header.stamp.toSec();
+    std::lock_guard<std::mutex> lock(mutex);
+    if (result_robots.empty()) first_result = now;
+    last_result = now;
+    result_robots[msg->header.stamp] = msg;
+    result_latencies.push_back(latency);
+  }
+  void resultBalls(const soccer_vision::BallPoseArrayConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex);
+    result_balls[msg->header.stamp] = msg;
+  }
 
   void image(const sensor_msgs::ImageConstPtr& msg) {
     const ros::WallTime now = ros::WallTime::now();
@@ -74,6 +101,7 @@ struct Monitor {
   void robotArray(const soccer_vision::RobotPoseArrayConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex);
     robots[msg->header.stamp] = msg;
+    truth_robots[msg->header.stamp] = msg;
     while (robots.size() > 120) robots.erase(robots.begin());
     ++gt_frames;
     for (const auto& r : msg->robots) visible_robot_sum += r.visible ? 1 : 0;
@@ -81,10 +109,50 @@ struct Monitor {
   void ballArray(const soccer_vision::BallPoseArrayConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex);
     balls[msg->header.stamp] = msg;
+    truth_balls[msg->header.stamp] = msg;
     while (balls.size() > 120) balls.erase(balls.begin());
     for (const auto& b : msg->balls) visible_ball_sum += b.visible ? 1 : 0;
   }
 };
+
+double percentileOf(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
+}
+
+// The tracking outputs against the ground truth of the same stamps (mutex held).
+void printTrackingScore(const Monitor& m) {
+  if (m.result_robots.empty()) {
+    std::printf("  tracking          no %s received\n", "robots");
+    return;
+  }
+  sv::Score score;
+  for (const auto& [stamp, robots] : m.result_robots) {
+    const auto truth = m.truth_robots.find(stamp);
+    if (truth == m.truth_robots.end()) continue;  // other camera's frame, or before the truth
+    const auto truth_balls = m.truth_balls.find(stamp);
+    const auto balls = m.result_balls.find(stamp);
+    const soccer_vision::BallPoseArray none;
+    score.add(sv::scoreFrame(
+        sv::toFrameRecord(*truth->second, truth_balls != m.truth_balls.end() ? *truth_balls->second : none),
+        sv::toFrameRecord(*robots, balls != m.result_balls.end() ? *balls->second : none)));
+  }
+  const double span = (m.last_result - m.first_result).toSec();
+  const double rate = m.result_robots.size() > 1 && span > 0 ? (m.result_robots.size() - 1) / span : 0.0;
+  std::printf("  tracking outputs  %zu at %.2f Hz, latency capture -> receipt p50 %.2f ms, p99 %.2f ms\n",
+              m.result_robots.size(), rate, 1e3 * percentileOf(m.result_latencies, 0.5),
+              1e3 * percentileOf(m.result_latencies, 0.99));
+  std::printf("  scored frames     %ld (same stamp as a ground-truth frame)\n", static_cast<long>(score.frames));
+  std::printf("  robots            detection %.3f %% (%ld of %ld), precision %.3f %%, identity errors %ld\n",
+              100 * score.robotDetectionRate(), static_cast<long>(score.matched_robots),
+              static_cast<long>(score.truth_robots), 100 * score.robotPrecision(), static_cast<long>(score.identity_errors));
+  std::printf("  robot error       position RMSE %.2f mm, heading RMSE %.3f deg\n", 1e3 * score.robotPositionRmse(),
+              score.robotHeadingRmse() * 180 / M_PI);
+  std::printf("  ball              detection %.3f %% (%ld of %ld), precision %.3f %%, RMSE %.2f mm\n",
+              100 * score.ballDetectionRate(), static_cast<long>(score.matched_balls),
+              static_cast<long>(score.truth_balls), 100 * score.ballPrecision(), 1e3 * score.ballPositionRmse());
+}
 
 void usage() {
   std::fprintf(stderr,
@@ -177,6 +245,8 @@ int main(int argc, char** argv) {
   int camera_id = 0;
   pnh.param<std::string>("camera", camera_ns, "camera_0");
   pnh.param("camera_id", camera_id, 0);
+  std::string vision_ns;
+  pnh.param<std::string>("vision", vision_ns, "/vision");
   if (duration < 0) pnh.param("duration", duration, 10.0);
   if (snapshot.empty()) pnh.param<std::string>("snapshot", snapshot, "./soccer_vision_snapshot.png");
 
@@ -187,6 +257,9 @@ int main(int argc, char** argv) {
   ros::Subscriber s2 = cam.subscribe("camera_info", 5, &Monitor::info, &m, hints);
   ros::Subscriber s3 = cam.subscribe("ground_truth/robots", 20, &Monitor::robotArray, &m, hints);
   ros::Subscriber s4 = cam.subscribe("ground_truth/balls", 20, &Monitor::ballArray, &m, hints);
+  ros::NodeHandle vision(nh, vision_ns);
+  ros::Subscriber s5 = vision.subscribe("robots", 50, &Monitor::resultRobots, &m, hints);
+  ros::Subscriber s6 = vision.subscribe("balls", 50, &Monitor::resultBalls, &m, hints);
   ROS_INFO("demo_monitor: watching %s for %.1f s", s1.getTopic().c_str(), duration);
 
   ros::AsyncSpinner spinner(2);
@@ -199,6 +272,8 @@ int main(int argc, char** argv) {
   s2.shutdown();
   s3.shutdown();
   s4.shutdown();
+  s5.shutdown();
+  s6.shutdown();
 
   std::lock_guard<std::mutex> lock(m.mutex);
   if (m.frames == 0 || !m.last_image) {
@@ -233,6 +308,8 @@ int main(int argc, char** argv) {
   } else {
     std::printf("  ground truth      none received\n");
   }
+
+  printTrackingScore(m);
 
   // Snapshot: the newest frame whose ground truth arrived (else the last frame), demosaiced
   // if Bayer, with its ground truth drawn on it.

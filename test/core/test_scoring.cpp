@@ -69,6 +69,23 @@ TEST(Scoring, WrongIdAndDisplacedRobotsCountAsByHand) {
   EXPECT_EQ(b.false_balls, 1);
   EXPECT_DOUBLE_EQ(b.ballPrecision(), 0.0);
 
+  // A coasting prediction (not measured) of the out-of-view robot, far from it: excused;
+  // the same claimed as measured: a false positive; a prediction of a visible robot, far
+  // from it: a false positive too.
+  FrameRecord coasting = truth;
+  coasting.robots.back().x += 0.5;
+  coasting.robots.back().visible = false;
+  EXPECT_EQ(scoreFrame(truth, coasting).excused_robots, 1);
+  EXPECT_EQ(scoreFrame(truth, coasting).false_robots, 0);
+  coasting.robots.back().visible = true;
+  EXPECT_EQ(scoreFrame(truth, coasting).false_robots, 1);
+  FrameRecord lagging = truth;
+  lagging.robots.pop_back();
+  lagging.robots[0].x += 0.2;
+  lagging.robots[0].visible = false;
+  EXPECT_EQ(scoreFrame(truth, lagging).false_robots, 1);
+  EXPECT_EQ(scoreFrame(truth, lagging).matched_robots, 9);
+
   Score total = s;
   total.add(scoreFrame(truth, truth));
   EXPECT_EQ(total.frames, 2);
