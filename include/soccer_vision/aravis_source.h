@@ -12,7 +12,8 @@
 // options.width/height set the region of interest from the sensor's top-left corner (0 =
 // the camera's current), options.fps the frame rate (0 = the camera's current).
 // Controls: "exposure" [µs] and "gain" (the camera's Gain, usually dB), auto modes switched
-// off when set; applied by the capture thread at the next frame and read back.
+// off when set; applied by the capture thread at the next frame and read back (control()
+// gives the queued value until then, the camera's afterwards).
 // Stamps: the camera's timestamp (ns) mapped to the wall clock by the smallest
 // (receive - camera) offset of the recent frames (transfer latency and clock offset), or,
 // without camera stamps, the receive time; minus stamp_delay. A camera whose control

@@ -167,6 +167,7 @@ struct AravisSource::Impl {
       if (e) problems += "frame rate: " + takeError(e) + "; ";
     }
     for (const auto& [name, value] : controls) {
+      if (control_lost) break;
       if (name == "exposure") {
         if (arv_camera_is_exposure_auto_available(camera, nullptr))
           arv_camera_set_exposure_time_auto(camera, ARV_AUTO_OFF, nullptr);
@@ -178,8 +179,12 @@ struct AravisSource::Impl {
       }
       if (e) problems += name + ": " + takeError(e) + "; ";
     }
-    readBack();
-    if (problems.empty()) return true;
+    // A refused setting keeps the last read-back values (and a camera that stopped
+    // answering is not asked again: each register read would wait for its time-out).
+    if (problems.empty()) {
+      readBack();
+      return true;
+    }
     error = "camera refused " + problems.substr(0, problems.size() - 2);
     return false;
   }
@@ -396,6 +401,9 @@ std::vector<std::string> AravisSource::controls() const {
 
 std::optional<double> AravisSource::control(const std::string& name) const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
+  // The newest value: queued for the next frame, else read back from the camera.
+  auto pending = impl_->pending_controls.find(name);
+  if (pending != impl_->pending_controls.end()) return pending->second;
   auto it = impl_->control_values.find(name);
   if (it == impl_->control_values.end()) return std::nullopt;
   return it->second;

@@ -223,6 +223,7 @@ TEST_F(AravisFakeCamera, ExposureGainAndFrameRateAreAppliedAndReadBack) {
   std::string error;
   ASSERT_TRUE(source.setControl("exposure", 2500, error)) << error;
   ASSERT_TRUE(source.setControl("gain", 4, error)) << error;
+  EXPECT_NEAR(*source.control("exposure"), 2500, 1e-9);  // queued for the next frame
   EXPECT_FALSE(source.setControl("gain", 1e6, error));
   EXPECT_NE(error.find("range"), std::string::npos) << error;
   EXPECT_FALSE(source.setControl("brightness", 1, error));
