@@ -234,7 +234,9 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   int width_ = 0, height_ = 0;
   std::string calibration_problem_;  // why camera_info is not from camera_info_url
   std::string logged_open_error_;    // capture thread: one error per state change
-  bool grab_failing_ = false;
+  bool grab_failing_ = false;        // capture thread
+  bool was_open_ = false;            // capture thread: opened at least once
+  bool source_failing_ = false;      // grabs failing (diagnostics)
   static constexpr double kReminderPeriod = 60.0;  // [s]
   ros::WallTime next_reminder_;                    // capture thread
 
@@ -356,6 +358,7 @@ bool CameraDriverNodelet::openSource() {
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     source_open_ = r.ok;
+    source_failing_ = false;
     source_error_ = r.error;
     source_warnings_ = r.warnings;
   }
@@ -367,9 +370,10 @@ bool CameraDriverNodelet::openSource() {
     logged_open_error_ = r.error;
     return false;
   }
-  if (!logged_open_error_.empty())
+  if (!logged_open_error_.empty() && was_open_)
     NODELET_INFO("%s source (camera %d) is back", source_name_.c_str(), camera_id_);
   logged_open_error_.clear();
+  was_open_ = true;
   for (const std::string& w : r.warnings) NODELET_ERROR("%s", w.c_str());
 
   // Controls given as parameters at start-up (the reconfigure server is created below, so
@@ -496,6 +500,7 @@ void CameraDriverNodelet::captureLoop() {
       {
         std::lock_guard<std::mutex> lock(state_mutex_);
         source_error_ = error;
+        source_failing_ = true;
       }
       if (++consecutive_errors >= 3) {
         source_->close();
@@ -509,6 +514,8 @@ void CameraDriverNodelet::captureLoop() {
     if (grab_failing_) {
       grab_failing_ = false;
       NODELET_INFO("%s source (camera %d): frames again", source_name_.c_str(), camera_id_);
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      source_failing_ = false;
     }
     if (have_sequence && info.sequence > last_sequence + 1) {
       std::lock_guard<std::mutex> lock(state_mutex_);
@@ -666,6 +673,9 @@ void CameraDriverNodelet::sourceDiagnostics(diagnostic_updater::DiagnosticStatus
   std::lock_guard<std::mutex> lock(state_mutex_);
   if (!source_open_) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source not open: %s",
+                  source_name_.c_str(), source_error_.c_str());
+  } else if (source_failing_) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source failing: %s",
                   source_name_.c_str(), source_error_.c_str());
   } else if (!source_warnings_.empty() || !calibration_problem_.empty()) {
     std::string msg = source_warnings_.empty() ? "" : source_warnings_.front();
