@@ -21,6 +21,7 @@ DEBIAN_PACKAGES=(
   python3-roslaunch python3-rostopic rosbash rosout libopencv-dev libeigen3-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev rviz xvfb xauth
 )
+DEBIAN_PACKAGES+=( libaravis-dev aravis-tools libopencv-videoio-dev pkg-config libglib2.0-dev linux-libc-dev )
 
 install_missing() {
   local missing=()

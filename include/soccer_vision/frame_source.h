@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -126,6 +127,10 @@ class FrameSource {
     error = "source '" + this->name() + "' has no control '" + name + "'";
     return false;
   }
+
+  // Back-end counters and facts for diagnostics (e.g. aravis stream statistics), as
+  // name/value pairs. Thread-safe.
+  virtual std::vector<std::pair<std::string, std::string>> statistics() const { return {}; }
 
   // True intrinsics/distortion and pose (field_T_optical) when the back-end knows them
   // (synthetic); real cameras return nullopt and rely on calibration files.

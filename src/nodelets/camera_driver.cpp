@@ -39,6 +39,29 @@
 //                                          driver sets it to the current second, later ones
 //                                          reuse it (if under 1 h old). "" = each driver starts
 //                                          its own game at its start.
+//   Source settings (FrameSourceOptions::settings; each source reads its own, see the
+//   source headers and the README's "Live cameras"):
+//   device            string  "/dev/video0" v4l2: device path.
+//   file              string  ""           video: file path.
+//   path              string  ""           images: folder or glob pattern.
+//   loop              bool    false        video, images: start over at the end (else the
+//                                          driver stops publishing at the end of the file).
+//   realtime          bool    true         video, images: paced at the file rate / fps;
+//                                          false = as fast as possible.
+//   encoding          string  "bgr8"       images: bgr8, mono8, bayer_*8 (raw single-channel).
+//   pixel_format      string  ""           v4l2 (YUYV, MJPG, RGB3, GREY, RGGB, ...), aravis
+//                                          (GenICam: BayerRG8, Mono8, RGB8, ...); "" = auto
+//                                          (v4l2) or the camera's current (aravis).
+//   camera            string  ""           aravis: device id, serial or IP; "" = first found.
+//   packet_size       int     0            aravis GigE: bytes; 0 = negotiate, -1 = leave.
+//   buffers           int     4 / 8        v4l2 mmap / aravis stream buffers.
+//   stamp_delay       double  0            [s] v4l2, aravis: subtracted from the stamps
+//                                          (receive or end-of-frame time -> exposure start).
+//   frame_timeout     double  5            [s] aravis: no frame for this long = error (re-open).
+//   exposure          double  camera's     v4l2, aravis, dynamic_reconfigure: exposure [µs].
+//   gain              double  camera's     v4l2 (driver units), aravis (camera units, usually
+//                                          dB), dynamic_reconfigure.
+//   debug_report_data_pointer bool false   Publish debug/published_address (zero-copy tests).
 //   retry_period      double  2.0          [s] between attempts to (re)open a failing source.
 //   tf_period         double  2.0          [s] between re-sends of the static tf (see below);
 //                                          0 = send once.
@@ -58,11 +81,15 @@
 //                          publisher, so a late subscriber would otherwise see only the last
 //                          one sent; the broadcaster is shared by all drivers of a manager).
 //   /diagnostics           image_raw rate (FrequencyStatus) and stamp age (TimeStampStatus),
-//                          source state (open, errors, dropped frames).
+//                          source state (open, errors, dropped frames) and the source's own
+//                          statistics (FrameSource::statistics: aravis stream counters, ...).
+//   debug/published_address std_msgs/UInt64MultiArray  Only with debug_report_data_pointer:
+//                          [stamp.sec, stamp.nsec, address of the published pixel buffer].
 // Services: set_camera_info (camera_info_manager), ~set_parameters (dynamic_reconfigure).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -82,6 +109,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <std_msgs/UInt64MultiArray.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
 #include "soccer_vision/BallPose.h"
@@ -121,6 +149,25 @@ class SharedStaticTf {
   std::mutex mutex_;
   tf2_ros::StaticTransformBroadcaster broadcaster_;
 };
+
+// Parameters passed to the sources as FrameSourceOptions::settings (strings).
+constexpr const char* kSettingNames[] = {
+    "device", "file", "path", "loop", "realtime", "encoding", "pixel_format", "camera",
+    "packet_size", "buffers", "stamp_delay", "frame_timeout"};
+
+std::string settingText(XmlRpc::XmlRpcValue& v) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return static_cast<bool>(v) ? "true" : "false";
+    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(static_cast<int>(v));
+    case XmlRpc::XmlRpcValue::TypeDouble: {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.17g", static_cast<double>(v));
+      return buf;
+    }
+    case XmlRpc::XmlRpcValue::TypeString: return static_cast<std::string>(v);
+    default: return v.toXml();  // the source reports it as malformed
+  }
+}
 
 double normalizeAngle(double a) {
   a = std::remainder(a, 2.0 * M_PI);  // [-pi, pi]
@@ -162,6 +209,7 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::CameraPublisher camera_pub_;
   ros::Publisher gt_robots_pub_, gt_balls_pub_, gt_ball_pub_;
+  ros::Publisher address_pub_;  // debug_report_data_pointer only
   std::shared_ptr<camera_info_manager::CameraInfoManager> cinfo_;
   std::shared_ptr<SharedStaticTf> static_tf_;
   ros::WallTime last_tf_sent_;
@@ -185,6 +233,10 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   std::string encoding_;
   int width_ = 0, height_ = 0;
   std::string calibration_problem_;  // why camera_info is not from camera_info_url
+  std::string logged_open_error_;    // capture thread: one error per state change
+  bool grab_failing_ = false;        // capture thread
+  bool was_open_ = false;            // capture thread: opened at least once
+  bool source_failing_ = false;      // grabs failing (diagnostics)
   static constexpr double kReminderPeriod = 60.0;  // [s]
   ros::WallTime next_reminder_;                    // capture thread
 
@@ -237,6 +289,14 @@ void CameraDriverNodelet::onInit() {
     options_.fps = 0;
     options_.width = options_.height = 0;
   }
+  for (const char* key : kSettingNames) {
+    XmlRpc::XmlRpcValue value;
+    if (pnh.getParam(key, value)) options_.settings[key] = settingText(value);
+  }
+  bool report_data_pointer = false;
+  pnh.param("debug_report_data_pointer", report_data_pointer, false);
+  if (report_data_pointer)
+    address_pub_ = nh.advertise<std_msgs::UInt64MultiArray>("debug/published_address", 20);
   pnh.param("epoch", options_.epoch, 0.0);
   std::string epoch_param;
   pnh.param<std::string>("epoch_param", epoch_param, "/soccer_vision/synthetic_epoch");
@@ -298,14 +358,22 @@ bool CameraDriverNodelet::openSource() {
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     source_open_ = r.ok;
+    source_failing_ = false;
     source_error_ = r.error;
     source_warnings_ = r.warnings;
   }
   if (!r.ok) {
-    NODELET_ERROR_THROTTLE(10.0, "cannot open %s source (camera %d): %s; retrying every %.1f s",
-                           source_name_.c_str(), camera_id_, r.error.c_str(), retry_period_);
+    // One error per state change: a new failure, not every retry of the same one.
+    if (r.error != logged_open_error_)
+      NODELET_ERROR("cannot open %s source (camera %d): %s; retrying every %.1f s",
+                    source_name_.c_str(), camera_id_, r.error.c_str(), retry_period_);
+    logged_open_error_ = r.error;
     return false;
   }
+  if (!logged_open_error_.empty() && was_open_)
+    NODELET_INFO("%s source (camera %d) is back", source_name_.c_str(), camera_id_);
+  logged_open_error_.clear();
+  was_open_ = true;
   for (const std::string& w : r.warnings) NODELET_ERROR("%s", w.c_str());
 
   // Controls given as parameters at start-up (the reconfigure server is created below, so
@@ -340,6 +408,8 @@ bool CameraDriverNodelet::openSource() {
       if (name == "brightness") config.brightness = *v;
       if (name == "noise_sigma") config.noise_sigma = *v;
       if (name == "flicker") config.flicker = *v;
+      if (name == "exposure") config.exposure = *v;
+      if (name == "gain") config.gain = *v;
     }
     reconfigure_server_->updateConfig(config);  // show the source's actual settings
     reconfigure_server_->setCallback(
@@ -355,7 +425,8 @@ bool CameraDriverNodelet::openSource() {
 void CameraDriverNodelet::reconfigure(CameraDriverConfig& config, uint32_t /*level*/) {
   if (!source_) return;
   std::string error;
-  if (std::abs(config.fps - source_->fps()) > 1e-9) {
+  // A free-running source (fps 0: video/images with realtime false) has no rate to set.
+  if (source_->fps() > 0 && std::abs(config.fps - source_->fps()) > 1e-9) {
     if (source_->setFps(config.fps, error)) {
       min_freq_ = max_freq_ = config.fps;
       NODELET_INFO("fps -> %.2f Hz", config.fps);
@@ -378,6 +449,8 @@ void CameraDriverNodelet::reconfigure(CameraDriverConfig& config, uint32_t /*lev
   apply("brightness", config.brightness);
   apply("noise_sigma", config.noise_sigma);
   apply("flicker", config.flicker);
+  apply("exposure", config.exposure);
+  apply("gain", config.gain);
 }
 
 void CameraDriverNodelet::captureLoop() {
@@ -420,11 +493,14 @@ void CameraDriverNodelet::captureLoop() {
       break;
     }
     if (status == GrabStatus::Error) {
-      NODELET_ERROR_THROTTLE(5.0, "%s source (camera %d): grab failed: %s",
-                             source_name_.c_str(), camera_id_, error.c_str());
+      if (!grab_failing_)  // one error per state change; the retries are in diagnostics
+        NODELET_ERROR("%s source (camera %d): grab failed: %s", source_name_.c_str(),
+                      camera_id_, error.c_str());
+      grab_failing_ = true;
       {
         std::lock_guard<std::mutex> lock(state_mutex_);
         source_error_ = error;
+        source_failing_ = true;
       }
       if (++consecutive_errors >= 3) {
         source_->close();
@@ -435,6 +511,12 @@ void CameraDriverNodelet::captureLoop() {
       continue;
     }
     consecutive_errors = 0;
+    if (grab_failing_) {
+      grab_failing_ = false;
+      NODELET_INFO("%s source (camera %d): frames again", source_name_.c_str(), camera_id_);
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      source_failing_ = false;
+    }
     if (have_sequence && info.sequence > last_sequence + 1) {
       std::lock_guard<std::mutex> lock(state_mutex_);
       frames_missing_ += info.sequence - last_sequence - 1;
@@ -454,6 +536,12 @@ void CameraDriverNodelet::publishFrame(const sensor_msgs::ImagePtr& image, const
       makeCameraInfo(image->header, static_cast<int>(image->width),
                      static_cast<int>(image->height));
   const std_msgs::Header header = image->header;
+  if (address_pub_) {
+    auto report = boost::make_shared<std_msgs::UInt64MultiArray>();
+    report->data = {header.stamp.sec, header.stamp.nsec,
+                    static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(image->data.data()))};
+    address_pub_.publish(report);
+  }
   camera_pub_.publish(image, camera_info);  // neither is touched after this
   image_diag_->tick(header.stamp);
   {
@@ -586,6 +674,9 @@ void CameraDriverNodelet::sourceDiagnostics(diagnostic_updater::DiagnosticStatus
   if (!source_open_) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source not open: %s",
                   source_name_.c_str(), source_error_.c_str());
+  } else if (source_failing_) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source failing: %s",
+                  source_name_.c_str(), source_error_.c_str());
   } else if (!source_warnings_.empty() || !calibration_problem_.empty()) {
     std::string msg = source_warnings_.empty() ? "" : source_warnings_.front();
     if (!calibration_problem_.empty())
@@ -604,6 +695,8 @@ void CameraDriverNodelet::sourceDiagnostics(diagnostic_updater::DiagnosticStatus
   stat.add("frames dropped by the source", frames_missing_);
   if (!source_error_.empty()) stat.add("last error", source_error_);
   for (const std::string& w : source_warnings_) stat.add("warning", w);
+  if (source_)
+    for (const auto& [key, value] : source_->statistics()) stat.add(key, value);
 }
 
 }  // namespace soccer_vision

@@ -5,7 +5,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "soccer_vision/images_source.h"
 #include "soccer_vision/synthetic_source.h"
+#include "soccer_vision/v4l2_source.h"
+#include "soccer_vision/video_source.h"
+#ifdef SOCCER_VISION_HAVE_ARAVIS
+#include "soccer_vision/aravis_source.h"
+#endif
 
 namespace soccer_vision {
 
@@ -16,9 +22,14 @@ struct Registry {
   std::map<std::string, FrameSourceFactory> factories;
 
   Registry() {
-    // Built-in back-ends. Real cameras (v4l2, aravis) and files (video, images) add a
-    // line here when they exist.
+    // Built-in back-ends (aravis when the package was built with libaravis).
     factories["synthetic"] = [] { return std::make_unique<SyntheticSource>(); };
+    factories["video"] = [] { return std::make_unique<VideoSource>(); };
+    factories["images"] = [] { return std::make_unique<ImagesSource>(); };
+    factories["v4l2"] = [] { return std::make_unique<V4l2Source>(); };
+#ifdef SOCCER_VISION_HAVE_ARAVIS
+    factories["aravis"] = [] { return std::make_unique<AravisSource>(); };
+#endif
   }
 };
 
