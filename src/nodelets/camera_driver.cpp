@@ -120,35 +120,12 @@
 #include "soccer_vision/frame_source.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
+#include "soccer_vision/ros/transforms.h"
 
 namespace soccer_vision {
 
 namespace {
 
-// One StaticTransformBroadcaster per process, shared by every driver in a nodelet manager:
-// it accumulates all transforms sent through it, so each (latched) send carries them all.
-class SharedStaticTf {
- public:
-  static std::shared_ptr<SharedStaticTf> get() {
-    static std::mutex m;
-    static std::weak_ptr<SharedStaticTf> instance;
-    std::lock_guard<std::mutex> lock(m);
-    std::shared_ptr<SharedStaticTf> p = instance.lock();
-    if (!p) {
-      p = std::make_shared<SharedStaticTf>();
-      instance = p;
-    }
-    return p;
-  }
-  void send(const geometry_msgs::TransformStamped& t) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    broadcaster_.sendTransform(t);
-  }
-
- private:
-  std::mutex mutex_;
-  tf2_ros::StaticTransformBroadcaster broadcaster_;
-};
 
 // Parameters passed to the sources as FrameSourceOptions::settings (strings).
 constexpr const char* kSettingNames[] = {
