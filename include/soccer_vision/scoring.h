@@ -12,7 +12,8 @@
 //    ground-truth robot of another team or id (also a false positive);
 //  - position and heading errors over matched robots (heading: wrapped difference,
 //    results without a finite theta left out); balls likewise, without team and id, the
-//    first result ball (the primary) only.
+//    first result ball (the primary) only; a coasting ball (visible false) while no
+//    ground-truth ball is visible is excused.
 #pragma once
 
 #include <cstdint>

@@ -55,4 +55,10 @@ std::vector<SearchWindow> searchWindows(const TrackerOutput& predicted, const Ca
 // The rectangles alone, as the Segmenter takes them.
 std::vector<cv::Rect> windowRects(const std::vector<SearchWindow>& windows);
 
+// Bands of band_px along the four image borders (not overlapping; each at most half the
+// image): where a robot or ball not tracked yet enters the view. Searched with the
+// windows, they let a newcomer be found when it appears instead of at the next periodic
+// global search. Empty for band_px <= 0.
+std::vector<cv::Rect> entryBands(cv::Size image, int band_px);
+
 }  // namespace soccer_vision

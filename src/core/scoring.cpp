@@ -112,7 +112,11 @@ Score scoreFrame(const FrameRecord& truth, const FrameRecord& result, const Scor
         best_d2 = e;
       }
     }
-    if (best < 0) {
+    bool ball_in_view = false;
+    for (const BallRecord& t : truth.balls) ball_in_view = ball_in_view || t.visible.value_or(true);
+    if (best < 0 && !r.visible.value_or(true) && !ball_in_view) {
+      ++s.excused_balls;  // a coasting prediction of a ball out of view
+    } else if (best < 0) {
       ++s.false_balls;
     } else if (!truth.balls[static_cast<std::size_t>(best)].visible.value_or(true)) {
       ++s.excused_balls;

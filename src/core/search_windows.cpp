@@ -98,3 +98,19 @@ std::vector<cv::Rect> windowRects(const std::vector<SearchWindow>& windows) {
 }
 
 }  // namespace soccer_vision
+
+namespace soccer_vision {
+
+std::vector<cv::Rect> entryBands(cv::Size image, int band_px) {
+  if (band_px <= 0 || image.width <= 0 || image.height <= 0) return {};
+  const int b = std::min({band_px, image.width / 2, image.height / 2});
+  const int inner = image.height - 2 * b;
+  std::vector<cv::Rect> bands = {{0, 0, image.width, b}, {0, image.height - b, image.width, b}};
+  if (inner > 0) {
+    bands.emplace_back(0, b, b, inner);
+    bands.emplace_back(image.width - b, b, b, inner);
+  }
+  return bands;
+}
+
+}  // namespace soccer_vision

@@ -13,6 +13,9 @@
 //                                     (robots and the primary ball at the frame's stamp).
 //   search_windows    bool    true    (dr) Feed windows back; false: every frame is searched whole.
 //   window_side       int     200     (dr) R [px] of a search window before enlargement.
+//   entry_band        int     48      (dr) [px] bands along the image borders searched with the
+//                                     windows, where untracked robots and the ball enter the view
+//                                     (0 = off: newcomers wait for the next global search).
 //   global_search_period int  30      (dr) Global search at least every n processed frames of a
 //                                     camera (and whenever an expected target was missed).
 //   robot_lost_timeout double 0.5     (dr) [s] without a measurement -> robot dropped.
@@ -161,6 +164,7 @@ class TrackingNodelet : public nodelet::Nodelet {
   SearchWindowParams window_params_;
   GlobalSearchParams policy_params_;
   bool use_windows_ = true, show_windows_ = false;
+  int entry_band_px_ = 48;
   MarkerStyle marker_style_;
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> updater_;
@@ -236,6 +240,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
     tracker_params_ = tracker_.params();
   }
   window_params_.side_px = config.window_side;
+  entry_band_px_ = config.entry_band;
   policy_params_.period_frames = config.global_search_period;
   for (auto& c : cameras_) c->policy.setParams(policy_params_);
   use_windows_ = config.search_windows;
@@ -337,6 +342,8 @@ void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& hea
   msg->global_search = !model || reason != GlobalSearchReason::None;
   if (!msg->global_search) {
     for (const SearchWindow& w : windows) msg->windows.push_back(toRegionOfInterest(w.rect));
+    for (const cv::Rect& band : entryBands(cv::Size(model->width(), model->height()), entry_band_px_))
+      msg->windows.push_back(toRegionOfInterest(band));
   }
   camera.windows_pub.publish(msg);
 }

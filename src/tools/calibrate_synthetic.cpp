@@ -5,6 +5,7 @@
 // pipeline has a table without any file shipped.
 //
 //   rosrun soccer_vision calibrate_synthetic --out table.svct [--scenario NAME|FILE.yaml]
+//       (also --key=value)
 //       [--camera 0] [--width W --height H]
 //
 // Bayer scenarios are calibrated on the colour image the mosaic samples (the classifier
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -52,8 +54,16 @@ int toInt(const std::string& option, const std::string& text) {
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
+    std::string a = argv[i];
+    if (a.rfind("__", 0) == 0) continue;  // roslaunch's __name:= and __log:= remappings
+    // --key=value (an empty value survives roslaunch's argument splitting only this way).
+    std::optional<std::string> inline_value;
+    if (const auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
+      inline_value = a.substr(eq + 1);
+      a = a.substr(0, eq);
+    }
     auto value = [&]() -> std::string {
+      if (inline_value) return *inline_value;
       if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
       return argv[++i];
     };

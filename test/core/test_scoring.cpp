@@ -86,6 +86,13 @@ TEST(Scoring, WrongIdAndDisplacedRobotsCountAsByHand) {
   EXPECT_EQ(scoreFrame(truth, lagging).false_robots, 1);
   EXPECT_EQ(scoreFrame(truth, lagging).matched_robots, 9);
 
+  FrameRecord ball_out = truth;
+  ball_out.balls.front().visible = false;
+  FrameRecord coasting_ball = far_ball;
+  coasting_ball.balls.front().visible = false;
+  EXPECT_EQ(scoreFrame(ball_out, coasting_ball).excused_balls, 1);
+  EXPECT_EQ(scoreFrame(truth, coasting_ball).false_balls, 1);  // the ball is in view: no excuse
+
   Score total = s;
   total.add(scoreFrame(truth, truth));
   EXPECT_EQ(total.frames, 2);

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
+
 #include "soccer_vision/field_geometry.h"
 #include "soccer_vision/global_search_policy.h"
 #include "soccer_vision/search_windows.h"
@@ -197,4 +199,23 @@ TEST(SearchWindows, GlobalSearchWhenATargetExpectedInThisCameraIsMissing) {
   EXPECT_EQ(step(10, false), GlobalSearchReason::TargetMissing);  // blue 0 missed in its window
   EXPECT_EQ(step(11, true), GlobalSearchReason::None);
   ASSERT_EQ(tracker.numRobotTracks(), 2u);
+}
+
+// Entry bands cover exactly the pixels within band_px of the image border, once each.
+TEST(EntryBands, CoverTheBorderOnce) {
+  const cv::Size image(1280, 1024);
+  const auto bands = entryBands(image, 48);
+  ASSERT_EQ(bands.size(), 4u);
+  cv::Mat1b count(image, 0);
+  for (const cv::Rect& b : bands) {
+    ASSERT_EQ(b & cv::Rect(cv::Point(0, 0), image), b);
+    count(b) += 1;
+  }
+  EXPECT_EQ(cv::countNonZero(count > 1), 0);
+  EXPECT_EQ(cv::countNonZero(count), 1280 * 1024 - (1280 - 96) * (1024 - 96));
+  EXPECT_EQ(count(0, 640), 1);
+  EXPECT_EQ(count(500, 1279), 1);
+  EXPECT_EQ(count(500, 640), 0);
+  EXPECT_TRUE(entryBands(image, 0).empty());
+  EXPECT_EQ(entryBands(cv::Size(10, 6), 48).size(), 2u);  // bands cut to half the image
 }
