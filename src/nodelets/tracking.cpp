@@ -23,10 +23,12 @@
 //   min_confidence    double  0.0     (dr) detections below are ignored.
 //   max_forward_jump  double  1.0     (dr) [s] a larger forward step of the stamps (paused or
 //                                     skipped bag) resets all tracks; a backward step always does.
-//   show_windows      bool    false   (dr) search windows as markers (projected on the field).
+//   show_windows      bool    false   (dr) publish window_markers: every camera's search windows
+//                                     (entry bands included) projected onto the marker plane.
 //
 // Published (node namespace): robots (RobotPoseArray), balls (BallPoseArray, primary first),
 //   ball (BallPose, the primary ball; only while there is one), markers (MarkerArray),
+//   window_markers (MarkerArray, with show_windows),
 //   field_markers (MarkerArray, latched), <ns>/search_windows (SearchWindows) per camera;
 //   every header stamp = the capture stamp of the camera frame just processed.
 //   /tf, /diagnostics: rate, latency (capture stamp -> publish, mean/p50/p99), tracks,
@@ -143,12 +145,13 @@ class TrackingNodelet : public nodelet::Nodelet {
   const CameraModel* cameraModel(Camera& camera);
   void publishWindows(Camera& camera, const std_msgs::Header& header, double stamp);
   void publishTf(const TrackerOutput& out, const ros::Time& stamp);
+  void publishWindowMarkers(const CameraModel& model, const SearchWindows& windows);
   void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   std::string field_frame_ = "field";
   bool publish_tf_ = true;
   std::vector<std::unique_ptr<Camera>> cameras_;
-  ros::Publisher robots_pub_, balls_pub_, ball_pub_, markers_pub_, field_markers_pub_;
+  ros::Publisher robots_pub_, balls_pub_, ball_pub_, markers_pub_, field_markers_pub_, window_markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
@@ -211,6 +214,7 @@ void TrackingNodelet::onInit() {
   ball_pub_ = nh.advertise<BallPose>("ball", 5);
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
   field_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("field_markers", 1, true);
+  window_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("window_markers", 5);
   field_markers_pub_.publish(boost::make_shared<visualization_msgs::MarkerArray>(fieldMarkers(FieldGeometry{}, field_frame_)));
 
   for (const std::string& ns : namespaces) {
@@ -346,6 +350,26 @@ void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& hea
       msg->windows.push_back(toRegionOfInterest(band));
   }
   camera.windows_pub.publish(msg);
+  if (show_windows_ && model) publishWindowMarkers(*model, *msg);
+}
+
+// The windows' outlines on the marker plane (mutex held).
+void TrackingNodelet::publishWindowMarkers(const CameraModel& model, const SearchWindows& windows) {
+  std::vector<std::vector<Eigen::Vector3d>> outlines;
+  for (const auto& roi : windows.windows) {
+    const double x0 = roi.x_offset, y0 = roi.y_offset, x1 = x0 + roi.width - 1.0, y1 = y0 + roi.height - 1.0;
+    std::vector<Eigen::Vector3d> outline;
+    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0), Eigen::Vector2d(x1, y1),
+                                          Eigen::Vector2d(x0, y1)}) {
+      if (const auto p = model.pixelToField(corner, window_params_.robot_height)) outline.push_back(*p);
+    }
+    if (outline.size() == 4) outlines.push_back(std::move(outline));
+  }
+  auto markers = boost::make_shared<visualization_msgs::MarkerArray>();
+  std_msgs::Header header = windows.header;
+  header.frame_id = field_frame_;
+  appendOutlineMarkers(outlines, header, 0.1, *markers);
+  window_markers_pub_.publish(markers);
 }
 
 void TrackingNodelet::publishTf(const TrackerOutput& out, const ros::Time& stamp) {
