@@ -22,7 +22,7 @@ struct SegmentationParams {
   // it (normalised tables: the light as calibrated); otherwise the paper's k for tables of
   // V as captured, while normalised tables measure every frame's block light levels.
   double illumination_k = 0.3;
-  int illumination_sample_step = 4;   // read every n-th row/column of a block for its mean V / level
+  int illumination_sample_step = 8;   // read every n-th row/column of a block for its mean V / level (16 of 1024: the mean of a noisy carpet to 0.4 levels)
   int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units (paper's mode)
   double sharpen = 0.0;               // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
   RegionParams regions;
