@@ -105,7 +105,7 @@ std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<
 // The bar. Measured (10 frames over 20 s, v_margin 8 in all modes): off 62.0 %,
 // paper 57.3 %, on 99.41 % (the misses are mostly purple, ~96 %: its one calibration
 // marker leaves HS cells other purple pixels fall into), no false positive in any mode.
-// Sharpening (paper §IV, 0.5) on top: 98.07 %: in flat marker interiors the Laplacian is
+// Sharpening (paper §IV, 0.5) on top: 97.79 %: in flat marker interiors the Laplacian is
 // sensor noise, which it amplifies; it is off by default.
 TEST(SegmentationAccuracy, UnevenDriftingLightCalibratedOnOneFrame) {
   const ScenarioConfig scenario = loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/uneven_drift.yaml");
