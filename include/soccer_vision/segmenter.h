@@ -25,8 +25,16 @@ struct SegmentationParams {
   int illumination_sample_step = 8;   // read every n-th row/column of a block for its mean V / level (16 of 1024: the mean of a noisy carpet to 0.4 levels)
   int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units (paper's mode)
   double sharpen = 0.0;               // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
+  // In label pixels. Bayer mosaics have one label per 2x2 quad: there the Segmenter uses
+  // quadLabelParams(regions), so that the same settings keep markers of the same size.
   RegionParams regions;
 };
+
+// Region parameters given for label = image pixels, as they apply to Bayer quads (half the
+// resolution): kernel k / 2 made odd (3 -> 1, i.e. off: a 3x3 opening of quads would erase
+// a 30 mm tag, 3 quads wide at 1280x1024, and an even one would shift every region;
+// 5, 7 -> 3), areas / 4 (at least 1), tiles / 2 (at least 8).
+RegionParams quadLabelParams(const RegionParams& image_pixels);
 
 struct SegmentationTimings {
   double illumination_ms = 0, classification_ms = 0, morphology_ms = 0, regions_ms = 0, total_ms = 0;
@@ -67,6 +75,7 @@ class Segmenter {
  private:
   SegmentationParams params_;
   RegionExtractor extractor_;
+  RegionExtractor quad_extractor_;  // Bayer input: quadLabelParams(params_.regions)
 };
 
 // Labels of every pixel (label resolution) with the same illumination offsets and

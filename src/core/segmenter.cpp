@@ -1,5 +1,6 @@
 #include "soccer_vision/segmenter.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "soccer_vision/field_renderer.h"
@@ -40,11 +41,24 @@ std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(std::share
   return model;
 }
 
-Segmenter::Segmenter(const SegmentationParams& params) : params_(params), extractor_(params.regions) {}
+RegionParams quadLabelParams(const RegionParams& p) {
+  RegionParams q = p;
+  // Odd: an even square opens and closes off-centre (OpenCV's anchor k/2), which moves
+  // every region by a pixel per pass.
+  q.morph_kernel = p.morph_kernel > 1 ? std::max(1, (p.morph_kernel / 2) | 1) : p.morph_kernel;
+  q.min_area = std::max(1, p.min_area / 4);
+  q.max_area = std::max(q.min_area, p.max_area / 4);
+  q.tile_size = std::max(8, p.tile_size / 2);
+  return q;
+}
+
+Segmenter::Segmenter(const SegmentationParams& params)
+    : params_(params), extractor_(params.regions), quad_extractor_(quadLabelParams(params.regions)) {}
 
 void Segmenter::setParams(const SegmentationParams& params) {
   params_ = params;
   extractor_ = RegionExtractor(params.regions);
+  quad_extractor_ = RegionExtractor(quadLabelParams(params.regions));
 }
 
 void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
@@ -73,7 +87,7 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   RegionStatistics stats;
   out.regions.clear();
   if (out.global_search || !label_windows.empty()) {
-    extractor_.extract(frame, label_windows, out.regions, stats);
+    (isBayer(layout) ? quad_extractor_ : extractor_).extract(frame, label_windows, out.regions, stats);
   }
   if (isBayer(layout)) {
     for (auto& r : out.regions) toImageCoordinates(r);
