@@ -629,20 +629,7 @@ void CameraDriverNodelet::publishGroundTruth(const std_msgs::Header& image_heade
 void CameraDriverNodelet::sendStaticTf() {
   const std::optional<Eigen::Isometry3d> pose = source_->trueFieldTCamera();
   if (!pose) return;  // real cameras: field calibration publishes this transform
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = ros::Time::now();
-  t.header.frame_id = "field";
-  t.child_frame_id = frame_id_;
-  const Eigen::Vector3d p = pose->translation();
-  const Eigen::Quaterniond q(pose->rotation());
-  t.transform.translation.x = p.x();
-  t.transform.translation.y = p.y();
-  t.transform.translation.z = p.z();
-  t.transform.rotation.x = q.x();
-  t.transform.rotation.y = q.y();
-  t.transform.rotation.z = q.z();
-  t.transform.rotation.w = q.w();
-  static_tf_->send(t);
+  static_tf_->send(toTransformStamped(*pose, "field", frame_id_, ros::Time::now()));
   last_tf_sent_ = ros::WallTime::now();
 }
 
