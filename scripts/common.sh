@@ -22,6 +22,7 @@ DEBIAN_PACKAGES=(
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev rviz xvfb xauth
 )
 DEBIAN_PACKAGES+=( libaravis-dev aravis-tools libopencv-videoio-dev pkg-config libglib2.0-dev linux-libc-dev )
+DEBIAN_PACKAGES+=( libx11-dev )  # the rviz screenshot test reads the X display
 
 install_missing() {
   local missing=()

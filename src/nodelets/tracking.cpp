@@ -319,10 +319,7 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
   }
   robots_pub_.publish(robots);  // never touched after publishing
   balls_pub_.publish(balls);
-  if (const TrackedBall* primary = out.primaryBall()) {
-    (void)primary;
-    ball_pub_.publish(boost::make_shared<BallPose>(balls->balls.front()));
-  }
+  if (out.primaryBall()) ball_pub_.publish(boost::make_shared<BallPose>(balls->balls.front()));
   markers_pub_.publish(markers);
   if (publish_tf_) publishTf(out, header.stamp);
   const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
