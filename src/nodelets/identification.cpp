@@ -14,7 +14,8 @@
 //                                     e.g. the synthetic driver's true pose). Given: it is used
 //                                     and published as the static tf field_frame -> optical
 //                                     frame; intrinsics of another resolution/focal length
-//                                     are refused (error, frames dropped).
+//                                     are refused (error, frames dropped). Read with the first
+//                                     frame; while missing or invalid, retried every frame.
 //   field_frame       string  "field"
 //   marker_gate       double  0.020   (dr) [m] max distance of a marker from where the fitted
 //                                     pose puts it.
@@ -128,15 +129,7 @@ void IdentificationNodelet::onInit() {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   pnh.param("camera_id", camera_id_, 0);
   pnh.param("field_frame", field_frame_, std::string("field"));
-  pnh.param("camera_pose", pose_file_path_, std::string());
-  if (!pose_file_path_.empty()) {
-    try {
-      pose_file_ = loadCameraPoseFile(pose_file_path_);
-    } catch (const std::exception& e) {
-      NODELET_ERROR("camera_pose: %s; no identification until it is fixed (restart the nodelet)", e.what());
-      problem_ = e.what();
-    }
-  }
+  pnh.param("camera_pose", pose_file_path_, std::string());  // loaded with the first frame
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
 
@@ -188,6 +181,9 @@ std::shared_ptr<const FrameIdentifier> IdentificationNodelet::identifierFor(cons
   try {
     const CameraIntrinsics intrinsics = intrinsicsFromCameraInfo(*info_);
     CameraModel camera;
+    // A missing or bad file is retried with every frame (error throttled): it may be
+    // being written by calibrate_field, or fixed by hand.
+    if (!pose_file_path_.empty() && !pose_file_) pose_file_ = loadCameraPoseFile(pose_file_path_);
     if (pose_file_) {
       camera = cameraModelFromPose(*pose_file_, intrinsics, pose_file_path_);
       const std::string child = pose_file_->child_frame_id.empty() ? blobs.header.frame_id : pose_file_->child_frame_id;
@@ -283,7 +279,9 @@ void IdentificationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrap
   stat.add("dropped: other camera", dropped_other_camera_);
   stat.add("dropped: errors", dropped_error_);
   stat.add("pattern", pattern_name_);
-  stat.add("camera pose", pose_file_ ? "file " + pose_file_path_ : "tf " + field_frame_ + " -> " + identifier_frame_);
+  stat.add("camera pose", !pose_file_path_.empty()
+                              ? "file " + pose_file_path_ + (pose_file_ ? "" : " (not loaded yet)")
+                              : "tf " + field_frame_ + " -> " + identifier_frame_);
   window_start_ = ros::WallTime::now();
   window_frames_ = window_robots_ = window_balls_ = 0;
   window_ms_sum_ = window_ms_max_ = 0;
