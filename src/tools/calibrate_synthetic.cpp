@@ -20,19 +20,13 @@
 #include <string>
 #include <vector>
 
-#include "soccer_vision/calibration_samples.h"
-#include "soccer_vision/color_calibration.h"
-#include "soccer_vision/field_renderer.h"
-#include "soccer_vision/game_simulator.h"
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/scenario.h"
+#include "soccer_vision/synthetic_calibration.h"
 
 namespace sv = soccer_vision;
 
 namespace {
-
-constexpr int kFrames = 6;                 // calibration frames ...
-constexpr double kSecondsBetween = 1.5;    // ... this far apart in scene time
 
 struct Options {
   std::string out, scenario;
@@ -89,23 +83,7 @@ int main(int argc, char** argv) {
     sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
     if (o.width > 0) scenario.width = o.width;
     if (o.height > 0) scenario.height = o.height;
-    scenario.sensor.bayer.clear();  // the colour image the mosaic samples
-    const sv::FieldGeometry field;
-    const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
-    sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
-    const sv::FieldRenderer renderer(sv::CameraModel::defaultCamera(field, o.camera, scenario.width, scenario.height),
-                                     field, patterns, scenario);
-    // Several frames of the first seconds, as a team calibrates on a few frames of a
-    // warm-up: one frame shows only the robots and ball that happen to be in this half.
-    std::vector<sv::CalibrationImage> images;
-    const int steps_between = static_cast<int>(std::lround(kSecondsBetween * scenario.fps));
-    for (int i = 0; i < kFrames; ++i) {
-      sv::RenderedFrame frame;
-      renderer.render(sim.state(), static_cast<std::int64_t>(i) * steps_between, frame);
-      images.push_back({frame.image.clone(), sv::calibrationSamples(sim.state(), renderer.camera(), field, patterns)});
-      for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
-    }
-    const sv::ColorTable table = sv::calibrateColorTable(images);
+    const sv::ColorTable table = sv::calibrateSyntheticCamera(scenario, o.camera);
     const std::string temporary = o.out + ".partial";
     table.save(temporary);
     if (std::rename(temporary.c_str(), o.out.c_str()) != 0) throw std::runtime_error("cannot rename " + temporary + " to " + o.out);

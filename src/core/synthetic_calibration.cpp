@@ -1,0 +1,32 @@
+#include "soccer_vision/synthetic_calibration.h"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "soccer_vision/calibration_samples.h"
+#include "soccer_vision/color_calibration.h"
+#include "soccer_vision/field_renderer.h"
+#include "soccer_vision/game_simulator.h"
+
+namespace soccer_vision {
+
+ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index, const SyntheticCalibration& how) {
+  scenario.sensor.bayer.clear();  // the colour image the mosaic samples
+  const FieldGeometry field;
+  const PatternSet patterns = patternSetByName(scenario.pattern);
+  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  const FieldRenderer renderer(CameraModel::defaultCamera(field, camera_index, scenario.width, scenario.height), field,
+                               patterns, scenario);
+  std::vector<CalibrationImage> images;
+  const int steps_between = static_cast<int>(std::lround(how.seconds_between * scenario.fps));
+  for (int i = 0; i < how.frames; ++i) {
+    RenderedFrame frame;
+    renderer.render(sim.state(), static_cast<std::int64_t>(i) * steps_between, frame);
+    images.push_back({frame.image.clone(), calibrationSamples(sim.state(), renderer.camera(), field, patterns)});
+    for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
+  }
+  return calibrateColorTable(images);
+}
+
+}  // namespace soccer_vision

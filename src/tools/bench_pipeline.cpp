@@ -1,0 +1,166 @@
+// bench_pipeline: the processing latency of the whole vision pipeline per frame — what
+// one nodelet manager does between receiving an image and publishing the robots, less the
+// pointer passing between nodelets: segmentation (with the search windows fed back) ->
+// identification -> tracking -> the next frame's windows. A benchmark, not a test.
+//
+//   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N]
+//       [--width W --height H] [--json FILE]
+//
+// Frames of synthetic camera 0 are rendered first (not timed), with the scenario's pattern
+// and a colour table calibrated like the demo's; then each frame is processed in order on
+// one thread. Prints p50 / p99 / max of the total and of each stage, the share of frames
+// searched in windows, and the robots found per frame.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "soccer_vision/field_renderer.h"
+#include "soccer_vision/frame_identification.h"
+#include "soccer_vision/game_simulator.h"
+#include "soccer_vision/global_search_policy.h"
+#include "soccer_vision/search_windows.h"
+#include "soccer_vision/segmenter.h"
+#include "soccer_vision/synthetic_calibration.h"
+#include "soccer_vision/tracker.h"
+
+namespace sv = soccer_vision;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Options {
+  std::string scenario_path;
+  int frames = 300, width = 0, height = 0;
+  std::string json;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--scenario") o.scenario_path = value();
+    else if (a == "--frames") o.frames = std::stoi(value());
+    else if (a == "--width") o.width = std::stoi(value());
+    else if (a == "--height") o.height = std::stoi(value());
+    else if (a == "--json") o.json = value();
+    else throw std::invalid_argument("unknown argument '" + a + "' (--scenario, --frames, --width, --height, --json)");
+  }
+  if (o.frames < 10) throw std::invalid_argument("--frames must be >= 10");
+  return o;
+}
+
+// A preset name is looked up in this source tree's presets; anything else is a path.
+std::string presetPath(const std::string& name) {
+  if (name.empty() || name.find('/') != std::string::npos || name.find(".yaml") != std::string::npos) return name;
+  return std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/" + name + ".yaml";
+}
+
+double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Options o = parse(argc, argv);
+    const std::string path = presetPath(o.scenario_path);
+    sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
+    if (o.width > 0) scenario.width = o.width;
+    if (o.height > 0) scenario.height = o.height;
+    const sv::FieldGeometry field;
+    const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
+    const sv::CameraModel camera = sv::CameraModel::defaultCamera(field, 0, scenario.width, scenario.height);
+    const sv::FieldRenderer renderer(camera, field, patterns, scenario);
+    const auto layout = scenario.sensor.bayer.empty()
+                            ? sv::PixelLayout::Bgr
+                            : *sv::pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
+    const auto model = sv::SegmentationModel::fromTable(
+        std::make_shared<const sv::ColorTable>(sv::calibrateSyntheticCamera(scenario, 0)));
+
+    sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+    std::vector<cv::Mat> frames;
+    for (int i = 0; i < o.frames; ++i) {
+      sv::RenderedFrame f;
+      renderer.render(sim.state(), i, f);
+      frames.push_back(f.image.clone());
+      sim.step(1.0 / scenario.fps);
+    }
+
+    sv::Segmenter segmenter;
+    sv::SegmentationResult segmented;
+    const sv::FrameIdentifier identifier(camera, patterns, field);
+    sv::Tracker tracker;
+    sv::GlobalSearchPolicy policy;
+    const double interval = 1.0 / scenario.fps;
+    std::map<std::string, std::vector<double>> t;
+    std::vector<cv::Rect> windows;
+    std::size_t windowed = 0, robots = 0;
+    for (int i = 0; i < o.frames; ++i) {
+      const double stamp = i * interval;
+      const auto t0 = Clock::now();
+      segmenter.process(*model, frames[i], layout, windows, segmented);
+      const auto t1 = Clock::now();
+      const sv::CameraFrameDetections detections =
+          identifier.identify(segmented.regions, stamp, 0, segmented.global_search);
+      const auto t2 = Clock::now();
+      const sv::TrackerUpdateReport report = tracker.update(detections);
+      policy.observe(report);
+      const sv::TrackerOutput out = tracker.output(stamp);
+      const auto t3 = Clock::now();
+      const std::vector<sv::SearchWindow> next = sv::searchWindows(tracker.output(stamp + interval), camera, interval);
+      const bool global = policy.decide(next, tracker.numRobotTracks() + tracker.numBallTracks()) !=
+                          sv::GlobalSearchReason::None;
+      windows.clear();
+      if (!global) {
+        windows = sv::windowRects(next);
+        for (const cv::Rect& band : sv::entryBands(cv::Size(camera.width(), camera.height()), 48)) windows.push_back(band);
+      }
+      const auto t4 = Clock::now();
+      windowed += !segmented.global_search;
+      robots += out.robots.size();
+      t["segmentation"].push_back(ms(t0, t1));
+      t["identification"].push_back(ms(t1, t2));
+      t["tracking"].push_back(ms(t2, t3));
+      t["windows"].push_back(ms(t3, t4));
+      t["total"].push_back(ms(t0, t4));
+    }
+
+    std::printf("bench_pipeline: %s, %dx%d %s, %d frames, %.1f %% searched in windows, %.1f robots tracked per frame\n",
+                scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width, scenario.height,
+                scenario.sensor.bayer.empty() ? "bgr8" : ("bayer_" + scenario.sensor.bayer + "8").c_str(), o.frames,
+                100.0 * windowed / o.frames, static_cast<double>(robots) / o.frames);
+    nlohmann::json json = {{"width", scenario.width}, {"height", scenario.height}, {"frames", o.frames},
+                           {"windowed_fraction", static_cast<double>(windowed) / o.frames}};
+    for (const char* stage : {"segmentation", "identification", "tracking", "windows", "total"}) {
+      const auto& v = t[stage];
+      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage, percentile(v, 0.5), percentile(v, 0.99),
+                  *std::max_element(v.begin(), v.end()));
+      json[stage] = {{"p50_ms", percentile(v, 0.5)}, {"p99_ms", percentile(v, 0.99)},
+                     {"max_ms", *std::max_element(v.begin(), v.end())}};
+    }
+    if (!o.json.empty()) {
+      std::ofstream(o.json) << json.dump(2) << "\n";
+      std::printf("wrote %s\n", o.json.c_str());
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "bench_pipeline: " << e.what() << "\n";
+    return 2;
+  }
+}
