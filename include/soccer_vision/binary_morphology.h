@@ -3,10 +3,13 @@
 // and ANDs/ORs per word instead of a call into OpenCV whose fixed cost dominates on
 // areas of a few thousand pixels.
 //
-// Semantics are exactly cv::erode / cv::dilate / cv::morphologyEx with a k x k
-// MORPH_RECT kernel, the default anchor (k/2, k/2) and the default border: pixels outside
-// the mask count as foreground for erosion and as background for dilation (so the image
-// border neither eats nor grows regions).
+// Semantics are exactly cv::erode / cv::dilate with a k x k MORPH_RECT kernel, the given
+// anchor (default (k/2, k/2)) and the default border: pixels outside the mask count as
+// foreground for erosion and as background for dilation (so the image border neither eats
+// nor grows regions). openThenClose is the *centred* opening and closing: the second pass
+// of each uses the reflected anchor (k - 1 - k/2), so for even k the regions stay where
+// they are — cv::morphologyEx uses one anchor for both passes and moves every region by a
+// pixel right and down per operation. For odd k both are the same.
 #pragma once
 
 #include <cstdint>
@@ -46,10 +49,11 @@ struct MorphologyScratch {
   BitMask temp;
 };
 
-// k x k square (k >= 1), `out` may not be `in`.
-void erode(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch);
-void dilate(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch);
-// cv::morphologyEx MORPH_OPEN then MORPH_CLOSE, in place.
+// k x k square (k >= 1), anchor in 0..k-1 (-1: k/2), `out` may not be `in`.
+void erode(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch, int anchor = -1);
+void dilate(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch, int anchor = -1);
+// Centred opening then closing, in place: erode (k/2), dilate (k-1-k/2), dilate (k/2),
+// erode (k-1-k/2).
 void openThenClose(BitMask& mask, int k, MorphologyScratch& scratch);
 
 }  // namespace soccer_vision

@@ -31,9 +31,9 @@ struct SegmentationParams {
 };
 
 // Region parameters given for label = image pixels, as they apply to Bayer quads (half the
-// resolution): kernel k / 2 made odd (3 -> 1, i.e. off: a 3x3 opening of quads would erase
-// a 30 mm tag, 3 quads wide at 1280x1024, and an even one would shift every region;
-// 5, 7 -> 3), areas / 4 (at least 1), tiles / 2 (at least 8).
+// resolution): kernel k / 2 (3 -> 1, i.e. off: a 3x3 opening of quads would erase a 30 mm
+// tag, 3 quads wide at 1280x1024, and 2 loses its edge quads), areas / 4 (at least 1),
+// tiles / 2 (at least 8).
 RegionParams quadLabelParams(const RegionParams& image_pixels);
 
 struct SegmentationTimings {

@@ -58,7 +58,7 @@ cv::Mat BitMask::toMat() const {
 namespace {
 
 // Both passes combine, for output pixel x, the input pixels x + d for d in
-// [-k/2, k - 1 - k/2] (OpenCV's anchored window). Outside the mask the input is the
+// [-anchor, k - 1 - anchor] (OpenCV's anchored window; its default anchor is k/2). Outside the mask the input is the
 // identity of the combination (1 for AND = erosion, 0 for OR = dilation), which is
 // OpenCV's default border, so out-of-range rows and bits can simply be left out.
 template <bool kErode>
@@ -67,8 +67,8 @@ std::uint64_t combine(std::uint64_t a, std::uint64_t b) {
 }
 
 template <bool kErode>
-void columnPass(const BitMask& in, int k, BitMask& out) {
-  const int first = -(k / 2), last = k - 1 - k / 2;
+void columnPass(const BitMask& in, int k, int anchor, BitMask& out) {
+  const int first = -anchor, last = k - 1 - anchor;
   const int words = in.wordsPerRow();
   for (int y = 0; y < in.height(); ++y) {
     std::uint64_t* o = out.row(y);
@@ -85,8 +85,8 @@ void columnPass(const BitMask& in, int k, BitMask& out) {
 // shifts across word boundaries branch-free; the bits beyond the width are set to the
 // identity for the pass and cleared after it.
 template <bool kErode>
-void rowPass(BitMask& mask, int k, std::vector<std::uint64_t>& padded) {
-  const int first = -(k / 2), last = k - 1 - k / 2;
+void rowPass(BitMask& mask, int k, int anchor, std::vector<std::uint64_t>& padded) {
+  const int first = -anchor, last = k - 1 - anchor;
   const int words = mask.wordsPerRow();
   const std::uint64_t identity = kErode ? ~std::uint64_t(0) : 0;
   const std::uint64_t tail = mask.validBits(words - 1);
@@ -111,29 +111,31 @@ void rowPass(BitMask& mask, int k, std::vector<std::uint64_t>& padded) {
 }
 
 template <bool kErode>
-void squarePass(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch) {
-  CV_Assert(k >= 1 && k < 64 && &in != &out);
+void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch) {
+  if (anchor < 0) anchor = k / 2;
+  CV_Assert(k >= 1 && k < 64 && anchor < k && &in != &out);
   out.reset(cv::Size(in.width(), in.height()));
   if (in.width() == 0 || in.height() == 0) return;
-  columnPass<kErode>(in, k, out);
-  rowPass<kErode>(out, k, scratch.padded_row);
+  columnPass<kErode>(in, k, anchor, out);
+  rowPass<kErode>(out, k, anchor, scratch.padded_row);
 }
 
 }  // namespace
 
-void erode(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch) {
-  squarePass<true>(in, k, out, scratch);
+void erode(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch, int anchor) {
+  squarePass<true>(in, k, anchor, out, scratch);
 }
 
-void dilate(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch) {
-  squarePass<false>(in, k, out, scratch);
+void dilate(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch, int anchor) {
+  squarePass<false>(in, k, anchor, out, scratch);
 }
 
 void openThenClose(BitMask& mask, int k, MorphologyScratch& scratch) {
-  erode(mask, k, scratch.temp, scratch);
-  dilate(scratch.temp, k, mask, scratch);
-  dilate(mask, k, scratch.temp, scratch);
-  erode(scratch.temp, k, mask, scratch);
+  const int a = k / 2, reflected = k - 1 - k / 2;  // equal for odd k
+  erode(mask, k, scratch.temp, scratch, a);
+  dilate(scratch.temp, k, mask, scratch, reflected);
+  dilate(mask, k, scratch.temp, scratch, a);
+  erode(scratch.temp, k, mask, scratch, reflected);
 }
 
 }  // namespace soccer_vision

@@ -25,7 +25,9 @@
 //     border may continue outside: the area grows by a tile on that side (merging with
 //     areas it meets) and is redone;
 //  4. regions holding a hit, within the area filter, get their moments; then the cap.
-// Both equal cv::morphologyEx and cv::connectedComponentsWithStats (connectivity 8), which
+// Both equal the centred opening + closing (cv::erode/cv::dilate with the anchors of
+// binary_morphology.h; cv::morphologyEx for odd k) and cv::connectedComponentsWithStats
+// (connectivity 8), which
 // cost more in fixed overhead than in pixels on areas this small.
 
 namespace soccer_vision {
@@ -175,20 +177,17 @@ void mergeOverlapping(std::vector<Area>& areas) {
   }
 }
 
-// Where the region of a kept hit `g` lies for sure. OpenCV anchors a k x k window at k/2,
-// so for even k the windows are not symmetric and the opening and the closing each shift
-// the square holding g by one pixel right and down: the region holds g + (2, 2), or a
-// pixel between g and it where the image ends. For odd k it holds g itself.
-cv::Rect seedBox(cv::Point g, int shift, const cv::Rect& image) {
-  return cv::Rect(g.x, g.y, 1 + shift, 1 + shift) & image;
-}
+// Where the region of a kept hit `g` lies for sure: at g itself — the centred opening
+// keeps every pixel of a k x k square of the class and the closing only adds pixels
+// (binary_morphology.h).
+cv::Rect seedBox(cv::Point g, const cv::Rect& image) { return cv::Rect(g.x, g.y, 1, 1) & image; }
 
 // Bounding rectangles (label pixels) of the 8-connected groups of tiles holding a seed box.
-void tileAreas(const std::vector<cv::Point>& hits, int shift, int tile, const cv::Rect& image, Scratch& s) {
+void tileAreas(const std::vector<cv::Point>& hits, int tile, const cv::Rect& image, Scratch& s) {
   const int tiles_x = (image.width + tile - 1) / tile, tiles_y = (image.height + tile - 1) / tile;
   s.tiles.assign(static_cast<std::size_t>(tiles_x) * tiles_y, 0);
   for (const cv::Point& g : hits) {
-    const cv::Rect seeds = seedBox(g, shift, image);
+    const cv::Rect seeds = seedBox(g, image);
     for (const int y : {seeds.y, seeds.br().y - 1}) {  // the box spans at most 2 x 2 tiles
       for (const int x : {seeds.x, seeds.br().x - 1}) s.tiles[static_cast<std::size_t>(y / tile) * tiles_x + x / tile] = 1;
     }
@@ -394,8 +393,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   stats.classify_ms += msSince(since);
 
   // 2. Tile areas.
-  const int shift = morphology && k % 2 == 0 ? 2 : 0;
-  tileAreas(s.hits, shift, tile, image, s);
+  tileAreas(s.hits, tile, image, s);
   // Four erode/dilate passes, each reaching k/2 px: beyond that the result is exact.
   const int margin = morphology ? 4 * (k / 2) : 0;
 
@@ -413,7 +411,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     s.area_hits.clear();
     ClassMask present = 0;
     for (const cv::Point& g : s.hits) {
-      const cv::Rect seeds = seedBox(g, shift, image) & core;
+      const cv::Rect seeds = seedBox(g, image) & core;
       if (seeds.empty()) continue;
       const std::uint8_t c = s.labels.at<std::uint8_t>(g - outer.tl());
       s.area_hits.push_back({seeds, c});

@@ -1,5 +1,5 @@
-// Bit-packed morphology against OpenCV (cv::erode, cv::dilate, cv::morphologyEx with a
-// k x k MORPH_RECT and the default anchor and border) on random masks, including widths
+// Bit-packed morphology against OpenCV (cv::erode, cv::dilate with a k x k MORPH_RECT,
+// the default and the reflected anchor, the default border; the centred open + close) on random masks, including widths
 // that are not multiples of 64 and masks narrower than the kernel.
 #include <gtest/gtest.h>
 
@@ -73,8 +73,25 @@ TEST(BinaryMorphology, EqualsOpenCvOnRandomMasks) {
       dilate(mask, k, out, scratch);
       ASSERT_TRUE(sameMask(out, want)) << "dilate, " << where;
 
-      cv::morphologyEx(binary, want, cv::MORPH_OPEN, kernel);
-      cv::morphologyEx(want, want, cv::MORPH_CLOSE, kernel);
+      // Anchored passes, and the centred opening + closing: the second pass of each with
+      // the reflected anchor (for odd k that is cv::morphologyEx).
+      const int a = k / 2, reflected = k - 1 - k / 2;
+      cv::erode(binary, want, kernel, cv::Point(reflected, reflected));
+      erode(mask, k, out, scratch, reflected);
+      ASSERT_TRUE(sameMask(out, want)) << "erode, reflected anchor, " << where;
+      cv::dilate(binary, want, kernel, cv::Point(reflected, reflected));
+      dilate(mask, k, out, scratch, reflected);
+      ASSERT_TRUE(sameMask(out, want)) << "dilate, reflected anchor, " << where;
+      cv::erode(binary, want, kernel, cv::Point(a, a));
+      cv::dilate(want, want, kernel, cv::Point(reflected, reflected));
+      cv::dilate(want, want, kernel, cv::Point(a, a));
+      cv::erode(want, want, kernel, cv::Point(reflected, reflected));
+      if (k % 2 == 1) {
+        cv::Mat opencv;
+        cv::morphologyEx(binary, opencv, cv::MORPH_OPEN, kernel);
+        cv::morphologyEx(opencv, opencv, cv::MORPH_CLOSE, kernel);
+        ASSERT_EQ(cv::countNonZero(opencv != want), 0) << where;
+      }
       openThenClose(mask, k, scratch);
       ASSERT_TRUE(sameMask(mask, want)) << "open + close, " << where;
       ++cases;

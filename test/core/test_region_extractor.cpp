@@ -104,9 +104,12 @@ std::vector<Blob> reference(const cv::Mat1b& labels, const RegionParams& p) {
   for (int c = 0; c < kNumColorClasses; ++c) {
     if (!(p.classes & classBit(static_cast<ColorClass>(c)))) continue;
     cv::Mat mask = labels == c;
-    if (p.morph_kernel > 1) {
-      cv::morphologyEx(mask, mask, cv::MORPH_OPEN, kernel);
-      cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, kernel);
+    if (p.morph_kernel > 1) {  // centred open + close (binary_morphology.h)
+      const cv::Point a(k / 2, k / 2), reflected(k - 1 - k / 2, k - 1 - k / 2);
+      cv::erode(mask, mask, kernel, a);
+      cv::dilate(mask, mask, kernel, reflected);
+      cv::dilate(mask, mask, kernel, a);
+      cv::erode(mask, mask, kernel, reflected);
     }
     cv::Mat cc, stats, centroids;
     const int n = cv::connectedComponentsWithStats(mask, cc, stats, centroids, 8, CV_32S);

@@ -132,8 +132,8 @@ TEST(SegmentationAccuracy, EvenLightAdaptationDoesNotMakeThingsWorse) {
 }
 
 // Bayer input is segmented at quad resolution with quadLabelParams: the markers come out
-// where the bgr8 frame puts them (an even kernel would shift them by ~5 px, the 3x3 one of
-// bgr8 would erase the 3-quad-wide team tags).
+// where the bgr8 frame puts them (OpenCV's off-centre even kernel shifted them by ~5 px,
+// the 3x3 one of bgr8 would erase the 3-quad-wide team tags).
 TEST(SegmentationBayer, QuadRegionsLieWhereTheColourFramePutsThem) {
   ScenarioConfig colour;
   ScenarioConfig mosaic = colour;
