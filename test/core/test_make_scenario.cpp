@@ -91,7 +91,9 @@ TEST_F(MakeScenario, TruthFileAgreesWithTheBag) {
       EXPECT_NEAR(truth[i].robots[k].y, robots->robots[k].y, 1e-4);
       ASSERT_TRUE(truth[i].robots[k].visible);
       // Visible in the truth file means seen by at least one camera.
-      if (robots->robots[k].visible) EXPECT_TRUE(*truth[i].robots[k].visible);
+      if (robots->robots[k].visible) {
+        EXPECT_TRUE(*truth[i].robots[k].visible);
+      }
       visible += *truth[i].robots[k].visible;
     }
     ++i;

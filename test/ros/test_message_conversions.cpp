@@ -140,7 +140,9 @@ TEST(FieldMarkers, FieldLinesGameObjectsAndStableIds) {
       EXPECT_DOUBLE_EQ(m.pose.position.x, 1.0);
       EXPECT_EQ(m.color.a, 1.0f);
     }
-    if (m.type == visualization_msgs::Marker::CYLINDER && m.id != 3) EXPECT_LT(m.color.a, 1.0f);  // predicted only
+    if (m.type == visualization_msgs::Marker::CYLINDER && m.id != 3) {
+      EXPECT_LT(m.color.a, 1.0f);  // predicted only
+    }
   }
   EXPECT_EQ(cylinders, 2);
   EXPECT_EQ(arrows, 2);
