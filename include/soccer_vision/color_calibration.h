@@ -11,6 +11,7 @@
 
 #include "soccer_vision/color_table.h"
 #include "soccer_vision/exchange_formats.h"
+#include "soccer_vision/pixel_classifier.h"
 
 namespace soccer_vision {
 
@@ -28,6 +29,13 @@ enum class CalibrationLight {
   // V as captured, the paper's table; run-time adaptation is the paper's v + k·Δv.
   AsCaptured,
 };
+
+// The colours the classifier reads from an image of this layout, as a BGR image of the
+// same size: bgr8 as it is, rgb8 swapped, a Bayer mosaic as its 2x2 quads' colours (R,
+// (G1 + G2 + 1) >> 1, B, as pixel_classifier.h reads them) each filling its quad. A table
+// calibrated on it sees exactly the colours run-time classification looks up (a demosaic
+// would interpolate other ones), on the image's own block grid.
+cv::Mat classifiedColors(const cv::Mat& image, PixelLayout layout);
 
 // Throws std::invalid_argument for no images, images of different sizes or types, or
 // samples that select no pixel at all.

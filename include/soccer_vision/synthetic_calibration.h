@@ -15,8 +15,9 @@ struct SyntheticCalibration {
                                  // the robots and ball that happen to be in view)
 };
 
-// Bayer scenarios are calibrated on the colour image the mosaic samples (the classifier
-// reads each 2x2 quad as one colour). Throws like the renderer and calibrateColorTable.
+// Bayer scenarios are calibrated on the quad colours of their mosaic frames
+// (classifiedColors): what run-time classification will look up, noise and all. Throws
+// like the renderer and calibrateColorTable.
 ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index, const SyntheticCalibration& how = {});
 
 }  // namespace soccer_vision

@@ -8,6 +8,25 @@
 
 namespace soccer_vision {
 
+cv::Mat classifiedColors(const cv::Mat& image, PixelLayout layout) {
+  checkImageFitsLayout(image, layout);
+  cv::Mat bgr(image.size(), CV_8UC3);
+  const cv::Size labels = labelSize(image.size(), layout);
+  const int scale = isBayer(layout) ? 2 : 1;
+  for (int y = 0; y < labels.height; ++y) {
+    const LabelRow row = labelRow(image, layout, y);
+    for (int x = 0; x < labels.width; ++x) {
+      const int i = x * row.step;
+      const cv::Vec3b c(row.b[i], static_cast<std::uint8_t>((row.g1[i] + row.g2[i] + 1) >> 1), row.r[i]);
+      for (int dy = 0; dy < scale; ++dy) {
+        for (int dx = 0; dx < scale; ++dx) bgr.at<cv::Vec3b>(y * scale + dy, x * scale + dx) = c;
+      }
+    }
+  }
+  return bgr;
+}
+
+
 ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, const ColorTableParams& params,
                                CalibrationLight light) {
   if (images.empty()) throw std::invalid_argument("colour calibration needs at least one image");

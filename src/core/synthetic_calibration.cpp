@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "soccer_vision/calibration_samples.h"
@@ -12,7 +14,9 @@
 namespace soccer_vision {
 
 ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index, const SyntheticCalibration& how) {
-  scenario.sensor.bayer.clear();  // the colour image the mosaic samples
+  const std::optional<PixelLayout> layout =
+      scenario.sensor.bayer.empty() ? PixelLayout::Bgr : pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
+  if (!layout) throw std::invalid_argument("unknown Bayer pattern '" + scenario.sensor.bayer + "'");
   const FieldGeometry field;
   const PatternSet patterns = patternSetByName(scenario.pattern);
   GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
@@ -23,7 +27,7 @@ ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index, c
   for (int i = 0; i < how.frames; ++i) {
     RenderedFrame frame;
     renderer.render(sim.state(), static_cast<std::int64_t>(i) * steps_between, frame);
-    images.push_back({frame.image.clone(), calibrationSamples(sim.state(), renderer.camera(), field, patterns)});
+    images.push_back({classifiedColors(frame.image, *layout), calibrationSamples(sim.state(), renderer.camera(), field, patterns)});
     for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
   }
   return calibrateColorTable(images);

@@ -9,6 +9,8 @@
 // 8 neighbours; a false positive is one classified as a marker colour.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -174,4 +176,32 @@ TEST(SegmentationBayer, QuadRegionsLieWhereTheColourFramePutsThem) {
   EXPECT_EQ(q.morph_kernel, 1);
   EXPECT_EQ(quadLabelParams([] { RegionParams p; p.morph_kernel = 7; return p; }()).morph_kernel, 3);
   EXPECT_EQ(q.min_area, 1);
+}
+
+// classifiedColors: the colours the classifier reads, on the image's own grid.
+TEST(ClassifiedColors, QuadColoursFillTheirQuadsAndBgrStaysAsItIs) {
+  cv::Mat3b bgr(4, 6);
+  for (int y = 0; y < bgr.rows; ++y) {
+    for (int x = 0; x < bgr.cols; ++x) bgr(y, x) = cv::Vec3b(10 * x, 20 * y, 7 * x + 3 * y);
+  }
+  EXPECT_EQ(cv::norm(classifiedColors(bgr, PixelLayout::Bgr), bgr, cv::NORM_INF), 0.0);
+  cv::Mat3b rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  EXPECT_EQ(cv::norm(classifiedColors(rgb, PixelLayout::Rgb), bgr, cv::NORM_INF), 0.0);
+  // RGGB: R at (0, 0), G at (1, 0) and (0, 1), B at (1, 1) of each quad.
+  cv::Mat1b raw(4, 6);
+  for (int y = 0; y < raw.rows; ++y) {
+    for (int x = 0; x < raw.cols; ++x) raw(y, x) = static_cast<std::uint8_t>(y % 2 == 0 ? (x % 2 == 0 ? 200 : 100 + x) : (x % 2 == 0 ? 101 + y : 50));
+  }
+  const cv::Mat3b quads = classifiedColors(raw, PixelLayout::BayerRggb);
+  ASSERT_EQ(quads.size(), raw.size());
+  for (int y = 0; y < raw.rows; ++y) {
+    for (int x = 0; x < raw.cols; ++x) {
+      const int qx = x / 2 * 2, qy = y / 2 * 2;
+      const cv::Vec3b want(raw(qy + 1, qx + 1), static_cast<std::uint8_t>((raw(qy, qx + 1) + raw(qy + 1, qx) + 1) >> 1),
+                           raw(qy, qx));
+      ASSERT_EQ(quads(y, x), want) << x << ", " << y;
+    }
+  }
+  EXPECT_THROW(classifiedColors(cv::Mat1b(3, 4), PixelLayout::BayerRggb), std::invalid_argument);
 }
