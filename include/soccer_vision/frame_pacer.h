@@ -8,6 +8,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <string>
 
 namespace soccer_vision {
 
@@ -40,5 +41,9 @@ class FramePacer {
 };
 
 double systemClockNow();  // Unix seconds
+
+// FrameSource::setFps of the file sources: refused (false, `error`) when the source runs
+// as fast as possible (realtime false) or fps is outside (0, 1000]; else pacer.setFps.
+bool setPacedFps(FramePacer& pacer, bool realtime, const std::string& source_name, double fps, std::string& error);
 
 }  // namespace soccer_vision

@@ -20,6 +20,19 @@ void FramePacer::start(double fps) {
   last_ = 0;
 }
 
+bool setPacedFps(FramePacer& pacer, bool realtime, const std::string& source_name, double fps, std::string& error) {
+  if (!realtime) {
+    error = "the " + source_name + " source runs as fast as possible (realtime false): no frame rate to set";
+    return false;
+  }
+  if (!(fps > 0) || fps > 1000) {
+    error = "fps " + std::to_string(fps) + " out of range (0, 1000]";
+    return false;
+  }
+  pacer.setFps(fps);
+  return true;
+}
+
 void FramePacer::setFps(double fps) {
   {
     std::lock_guard<std::mutex> lock(mutex_);

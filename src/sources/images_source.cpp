@@ -160,16 +160,7 @@ void ImagesSource::interrupt() { pacer_.interrupt(); }
 
 bool ImagesSource::setFps(double fps, std::string& error) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!realtime_) {
-    error = "the images source runs as fast as possible (realtime false): no frame rate to set";
-    return false;
-  }
-  if (!(fps > 0) || fps > 1000) {
-    error = "fps " + std::to_string(fps) + " out of range (0, 1000]";
-    return false;
-  }
-  pacer_.setFps(fps);
-  return true;
+  return setPacedFps(pacer_, realtime_, "images", fps, error);
 }
 
 std::vector<std::string> ImagesSource::files() const {
