@@ -81,7 +81,7 @@ RobotPoseArray toRobotPoseArray(const TrackerOutput& out, const std_msgs::Header
     RobotPose p;
     p.header = header;
     p.team = t.team == Team::Blue ? RobotPose::TEAM_BLUE : RobotPose::TEAM_YELLOW;
-    p.id = t.id < 0 ? 255 : static_cast<std::uint8_t>(std::min(t.id, 254));
+    p.id = toWireRobotId(t.id);
     p.x = t.x;
     p.y = t.y;
     p.theta = t.heading_valid ? t.theta : std::nan("");

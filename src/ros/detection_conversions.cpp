@@ -40,8 +40,7 @@ void toCameraDetections(const CameraFrameDetections& detections, const std_msgs:
     RobotPose p;
     p.header = out.header;
     p.team = d.team == Team::Blue ? RobotPose::TEAM_BLUE : RobotPose::TEAM_YELLOW;
-    // Team-only patterns carry no id: 255 on the wire (ids are 0..15).
-    p.id = d.id < 0 ? 255 : static_cast<std::uint8_t>(std::min(d.id, 254));
+    p.id = toWireRobotId(d.id);
     p.x = d.x;
     p.y = d.y;
     p.theta = d.heading_valid ? d.theta : std::nan("");
@@ -73,7 +72,7 @@ CameraFrameDetections fromCameraDetections(const CameraDetections& msg) {
   for (const RobotPose& p : msg.robots) {
     RobotDetection r;
     r.team = p.team == RobotPose::TEAM_BLUE ? Team::Blue : Team::Yellow;
-    r.id = p.id == 255 ? -1 : p.id;
+    r.id = fromWireRobotId(p.id);
     r.x = p.x;
     r.y = p.y;
     r.heading_valid = std::isfinite(p.theta);

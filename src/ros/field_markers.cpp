@@ -1,5 +1,7 @@
 #include "soccer_vision/ros/field_markers.h"
 
+#include "soccer_vision/ros/detection_conversions.h"
+
 #include <cmath>
 #include <string>
 
@@ -103,7 +105,7 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
     text.pose.position = point(r.x, r.y, style.robot_height + 0.12);
     text.scale.z = 0.15;
     text.color = rgba(1, 1, 1, alpha);
-    text.text = r.id == 255 ? (blue ? "B" : "Y") : std::string(blue ? "B" : "Y") + std::to_string(r.id);
+    text.text = r.id == kNoRobotId ? (blue ? "B" : "Y") : std::string(blue ? "B" : "Y") + std::to_string(r.id);
     text.lifetime = lifetime;
     out.markers.push_back(text);
 

@@ -2,6 +2,7 @@
 // the nodelets and the offline tools so that both see exactly the same data.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <std_msgs/Header.h>
@@ -12,6 +13,14 @@
 #include "soccer_vision/region_extractor.h"
 
 namespace soccer_vision {
+
+// RobotPose.id on the wire: 0..254; kNoRobotId for robots without an id (team-only
+// patterns), the core's id -1.
+constexpr std::uint8_t kNoRobotId = 255;
+inline std::uint8_t toWireRobotId(int id) {
+  return id < 0 ? kNoRobotId : static_cast<std::uint8_t>(id < 254 ? id : 254);
+}
+inline int fromWireRobotId(std::uint8_t id) { return id == kNoRobotId ? -1 : id; }
 
 // A Blob back as the Region it was made from (toBlob in blob_conversions.h); colours
 // outside the ColorClass range become ColorClass::None.
