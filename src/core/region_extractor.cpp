@@ -265,17 +265,19 @@ bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
   // Ring: within kRing px (chessboard) of the region, not in it; separable dilation.
   s.near.assign(s.inside.size(), 0);
   s.near_in_row.assign(s.inside.size(), 0);
-  for (int y = -kPad; y < bbox.height + kPad; ++y) {
+  // Members lie inside the bbox only, so each pass reads the bbox's columns / rows alone
+  // (reading the whole +-kRing would run kRing - 1 px past the kPad margin).
+  for (int y = 0; y < bbox.height; ++y) {
     for (int x = -kRing; x < bbox.width + kRing; ++x) {
       std::uint8_t v = 0;
-      for (int d = -kRing; d <= kRing; ++d) v |= s.inside[at(x + d, y)];
+      for (int d = std::max(-kRing, -x); d <= std::min(kRing, bbox.width - 1 - x); ++d) v |= s.inside[at(x + d, y)];
       s.near_in_row[at(x, y)] = v;
     }
   }
   for (int y = -kRing; y < bbox.height + kRing; ++y) {
     for (int x = -kRing; x < bbox.width + kRing; ++x) {
       std::uint8_t v = 0;
-      for (int d = -kRing; d <= kRing; ++d) v |= s.near_in_row[at(x, y + d)];
+      for (int d = std::max(-kRing, -y); d <= std::min(kRing, bbox.height - 1 - y); ++d) v |= s.near_in_row[at(x, y + d)];
       s.near[at(x, y)] = v;
     }
   }
