@@ -1,14 +1,16 @@
 // bench_pipeline: the processing latency of the whole vision pipeline per frame — what
 // one nodelet manager does between receiving an image and publishing the robots, less the
 // pointer passing between nodelets: segmentation (with the search windows fed back) ->
-// identification -> tracking -> the next frame's windows. A benchmark, not a test.
+// identification -> tracking -> the next frame's windows (VisionPipeline, the loop the
+// offline evaluation runs). A benchmark, not a test.
 //
 //   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N]
 //       [--width W --height H] [--json FILE]
 //
 // Frames of synthetic camera 0 are rendered first (not timed), with the scenario's pattern
 // and a colour table calibrated like the demo's; then each frame is processed in order on
-// one thread. Prints p50 / p99 / max of the total and of each stage, the share of frames
+// one thread. Prints p50 / p99 / max of the total and of each stage (Table II's:
+// illumination, pixel classification, recognition and pose, tracking), the share of frames
 // searched in windows, and the robots found per frame.
 #include <algorithm>
 #include <chrono>
@@ -23,13 +25,9 @@
 #include <nlohmann/json.hpp>
 
 #include "soccer_vision/field_renderer.h"
-#include "soccer_vision/frame_identification.h"
 #include "soccer_vision/game_simulator.h"
-#include "soccer_vision/global_search_policy.h"
-#include "soccer_vision/search_windows.h"
-#include "soccer_vision/segmenter.h"
 #include "soccer_vision/synthetic_calibration.h"
-#include "soccer_vision/tracker.h"
+#include "soccer_vision/vision_pipeline.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -102,43 +100,26 @@ int main(int argc, char** argv) {
       sim.step(1.0 / scenario.fps);
     }
 
-    sv::Segmenter segmenter;
-    sv::SegmentationResult segmented;
-    const sv::FrameIdentifier identifier(camera, patterns, field);
-    sv::Tracker tracker;
-    sv::GlobalSearchPolicy policy;
+    // The nodelets' loop in one process (vision_pipeline.h), timed per stage.
+    sv::PipelineCamera pc;
+    pc.model = camera;
+    pc.segmentation = model;
+    pc.layout = layout;
+    sv::VisionPipeline pipeline({pc}, patterns, field);
     const double interval = 1.0 / scenario.fps;
     std::map<std::string, std::vector<double>> t;
-    std::vector<cv::Rect> windows;
     std::size_t windowed = 0, robots = 0;
     for (int i = 0; i < o.frames; ++i) {
-      const double stamp = i * interval;
       const auto t0 = Clock::now();
-      segmenter.process(*model, frames[i], layout, windows, segmented);
+      const sv::PipelineFrame f = pipeline.process(0, frames[i], i * interval);
       const auto t1 = Clock::now();
-      const sv::CameraFrameDetections detections =
-          identifier.identify(segmented.regions, stamp, 0, segmented.global_search);
-      const auto t2 = Clock::now();
-      const sv::TrackerUpdateReport report = tracker.update(detections);
-      policy.observe(report);
-      const sv::TrackerOutput out = tracker.output(stamp);
-      const auto t3 = Clock::now();
-      const std::vector<sv::SearchWindow> next = sv::searchWindows(tracker.output(stamp + interval), camera, interval);
-      const bool global = policy.decide(next, tracker.numRobotTracks() + tracker.numBallTracks()) !=
-                          sv::GlobalSearchReason::None;
-      windows.clear();
-      if (!global) {
-        windows = sv::windowRects(next);
-        for (const cv::Rect& band : sv::entryBands(cv::Size(camera.width(), camera.height()), 48)) windows.push_back(band);
-      }
-      const auto t4 = Clock::now();
-      windowed += !segmented.global_search;
-      robots += out.robots.size();
-      t["segmentation"].push_back(ms(t0, t1));
-      t["identification"].push_back(ms(t1, t2));
-      t["tracking"].push_back(ms(t2, t3));
-      t["windows"].push_back(ms(t3, t4));
-      t["total"].push_back(ms(t0, t4));
+      windowed += !f.global_search;
+      robots += f.output.robots.size();
+      t["preprocessing"].push_back(f.times.preprocessing);
+      t["classification"].push_back(f.times.classification);
+      t["recognition"].push_back(f.times.recognition);
+      t["tracking"].push_back(f.times.tracking);
+      t["total"].push_back(ms(t0, t1));
     }
 
     std::printf("bench_pipeline: %s, %dx%d %s, %d frames, %.1f %% searched in windows, %.1f robots tracked per frame\n",
@@ -147,7 +128,7 @@ int main(int argc, char** argv) {
                 100.0 * windowed / o.frames, static_cast<double>(robots) / o.frames);
     nlohmann::json json = {{"width", scenario.width}, {"height", scenario.height}, {"frames", o.frames},
                            {"windowed_fraction", static_cast<double>(windowed) / o.frames}};
-    for (const char* stage : {"segmentation", "identification", "tracking", "windows", "total"}) {
+    for (const char* stage : {"preprocessing", "classification", "recognition", "tracking", "total"}) {
       const auto& v = t[stage];
       std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage, percentile(v, 0.5), percentile(v, 0.99),
                   *std::max_element(v.begin(), v.end()));
