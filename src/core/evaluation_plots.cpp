@@ -5,8 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -157,7 +158,6 @@ cv::Scalar stageColor(int i) {
 // ---------------------------------------------------------------------------------------
 cv::Mat renderTrajectories(const std::vector<TrajectorySeries>& series, const FieldGeometry& field) {
   size_t points = 0;
-  std::vector<const std::vector<double>*> times;
   for (const TrajectorySeries& s : series) {
     const std::string where = "trajectory plot, series '" + s.label + "'";
     requireLength(where, "truth_x", s.truth_x.size(), s.t.size());
