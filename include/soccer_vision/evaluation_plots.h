@@ -49,7 +49,8 @@ struct PredictionErrorSeries {
 };
 
 // Field (carpet, white lines, goals) with each target's ground truth as a broad pale line
-// and its tracked positions as a dashed line of the same colour, equal aspect, metres.
+// and its tracked positions as a dashed line of the same colour, equal aspect, metres. The
+// axes end 0.2 m beyond the carpet; positions further out are counted under the x axis.
 cv::Mat renderTrajectories(const std::vector<TrajectorySeries>& series, const FieldGeometry& field);
 void plotTrajectories(const std::vector<TrajectorySeries>& series, const FieldGeometry& field,
                       const std::string& png_path);

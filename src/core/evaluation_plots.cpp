@@ -5,8 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -84,6 +85,10 @@ cv::Mat composeFigure(const std::string& title, const std::vector<PlotCanvas>& p
   return figure;
 }
 
+std::string counted(size_t n, const std::string& singular, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
 std::string ordinal(int n) {
   const int tens = n % 100, units = n % 10;
   const char* suffix = (tens >= 11 && tens <= 13) ? "th" : units == 1 ? "st" : units == 2 ? "nd" : units == 3 ? "rd" : "th";
@@ -153,7 +158,6 @@ cv::Scalar stageColor(int i) {
 // ---------------------------------------------------------------------------------------
 cv::Mat renderTrajectories(const std::vector<TrajectorySeries>& series, const FieldGeometry& field) {
   size_t points = 0;
-  std::vector<const std::vector<double>*> times;
   for (const TrajectorySeries& s : series) {
     const std::string where = "trajectory plot, series '" + s.label + "'";
     requireLength(where, "truth_x", s.truth_x.size(), s.t.size());
@@ -175,7 +179,19 @@ cv::Mat renderTrajectories(const std::vector<TrajectorySeries>& series, const Fi
   if (!series.empty() && t_hi >= t_lo) title += ", " + number(t_hi - t_lo) + " s";
   if (!series.empty()) title += ")";
   c.setTitle(title);
-  c.setXLabel("x [m]");
+  // Axes fixed to the carpet: one wild position must not shrink the field to a dot.
+  const double margin = 0.2, x_end = field.halfLength() + field.boundary + margin,
+               y_end = field.halfWidth() + field.boundary + margin;
+  c.setXRange(-x_end, x_end);
+  c.setYRange(-y_end, y_end);
+  size_t off_field = 0;
+  for (const TrajectorySeries& s : series)
+    for (size_t i = 0; i < s.t.size(); ++i) {
+      for (auto [x, y] : {std::pair{s.truth_x[i], s.truth_y[i]}, std::pair{s.tracked_x[i], s.tracked_y[i]}})
+        if (std::isfinite(x) && std::isfinite(y) && !field.onCarpet(x, y, margin)) ++off_field;
+    }
+  c.setXLabel(off_field == 0 ? "x [m]"
+                             : "x [m]; " + counted(off_field, "position", "positions") + " beyond the carpet not shown");
   c.setYLabel("y [m]");
   c.setEqualAspect(true);
   c.setLegendPosition(LegendPosition::OutsideRight);
@@ -239,7 +255,7 @@ cv::Mat renderPositionError(const ErrorSeries& e) {
       label += "never matched";
     } else {
       label += "RMS " + number(rootMeanSquare(err)) + " mm, p95 " + number(percentile(err, 95)) + " mm, " +
-               std::to_string(n) + " frames";
+               counted(n, "frame", "frames");
     }
     c.addPolyline(t, err, color, label, LineStyle::Solid, 1);
   };
@@ -274,7 +290,7 @@ cv::Mat renderStageTimingHistogram(const StageTimes& times) {
   for (int i = 0; i < n; ++i) {
     const std::vector<double> v = finiteValues(times.ms[static_cast<size_t>(i)]);
     PlotCanvas c(pw, ph);
-    c.setTitle(times.stage[static_cast<size_t>(i)] + " (" + std::to_string(v.size()) + " frames)");
+    c.setTitle(times.stage[static_cast<size_t>(i)] + " (" + counted(v.size(), "frame", "frames") + ")");
     c.setXLabel("time [ms]");
     c.setYLabel("frames");
     c.setYRange(0, std::numeric_limits<double>::quiet_NaN());
@@ -291,13 +307,15 @@ cv::Mat renderStageTimingHistogram(const StageTimes& times) {
         for (double x : v)
           if (x <= cut) hi = std::max(hi, x);
       }
+      // Rice rule for the bin count, within bounds that keep bars readable; one bar centred
+      // on the value when all times are the same.
+      int bins = std::clamp(static_cast<int>(std::lround(2 * std::cbrt(static_cast<double>(v.size())))), 8, 40);
       if (hi - lo <= 1e-9 * std::max(1.0, std::abs(hi))) {
         const double half = std::max(0.05 * std::abs(lo), 0.001);
         lo -= half;
         hi += half;
+        bins = 1;
       }
-      // Rice rule for the bin count, within bounds that keep bars readable.
-      const int bins = std::clamp(static_cast<int>(std::lround(2 * std::cbrt(static_cast<double>(v.size())))), 8, 40);
       std::vector<double> edges(static_cast<size_t>(bins) + 1), counts(static_cast<size_t>(bins), 0.0);
       for (int b = 0; b <= bins; ++b) edges[static_cast<size_t>(b)] = lo + (hi - lo) * b / bins;
       long above = 0;
@@ -315,7 +333,7 @@ cv::Mat renderStageTimingHistogram(const StageTimes& times) {
       c.addPolyline({p50, p50}, {0, top}, kMedianColor, "p50 " + number(p50) + " ms", LineStyle::Dashed, 2);
       c.addPolyline({p99, p99}, {0, top}, kP99Color, "p99 " + number(p99) + " ms", LineStyle::Dashed, 2);
       if (tail_cut)
-        c.setXLabel("time [ms]; " + std::to_string(above) + (above == 1 ? " frame" : " frames") + " > " +
+        c.setXLabel("time [ms]; " + counted(static_cast<size_t>(above), "frame", "frames") + " > " +
                     number(cut) + " ms not shown (max " + number(*max_it) + ")");
     }
     panels.push_back(c);
@@ -368,7 +386,7 @@ cv::Mat renderPredictionError(const std::vector<PredictionErrorSeries>& series) 
   std::vector<PlotCanvas> panels;
   for (const auto* s : sorted) {
     const double rms = rootMeanSquare(s->error_mm);
-    const size_t count = finiteCount(s->error_mm);
+    const size_t predictions = finiteCount(s->error_mm);
     PlotCanvas c(pw, ph);
     const std::string step = std::to_string(s->frame_step);
     c.setTitle("frame step " + step + (s->frame_step == 1 ? " (every frame)" : " (every " + ordinal(s->frame_step) + " frame)"));
@@ -381,8 +399,8 @@ cv::Mat renderPredictionError(const std::vector<PredictionErrorSeries>& series) 
       c.setYRange(0, std::numeric_limits<double>::quiet_NaN());
     }
     c.addPolyline(shifted(s->t, any ? t0 : 0.0), s->error_mm, predictionErrorColor(),
-                  std::to_string(count) + " predictions", LineStyle::Solid, 1);
-    if (count > 0) {
+                  counted(predictions, "prediction", "predictions"), LineStyle::Solid, 1);
+    if (predictions > 0) {
       c.addPolyline({0, any ? t1 - t0 : 1.0}, {rms, rms}, kRmsColor, "RMS " + number(rms) + " mm", LineStyle::Dashed, 2);
       summary_rms += (summary_rms.empty() ? "" : " / ") + number(rms);
       summary_steps += (summary_steps.empty() ? "" : " / ") + step;

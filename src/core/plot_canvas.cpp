@@ -88,10 +88,10 @@ void drawRun(cv::Mat& img, const std::vector<cv::Point2d>& run, const cv::Scalar
              LineStyle style) {
   const double margin = 8.0 + thickness;
   const double x0 = -margin, y0 = -margin, x1 = img.cols - 1 + margin, y1 = img.rows - 1 + margin;
-  if (run.size() == 1) {
+  if (run.size() == 1) {  // an isolated point between gaps: a dot a little wider than the line
     const cv::Point2d& p = run.front();
     if (p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1)
-      cv::circle(img, toFixed(p), static_cast<int>(std::max(1.0, 0.5 * thickness + 0.5) * kSubPixel), color,
+      cv::circle(img, toFixed(p), static_cast<int>(std::max(2.0, 1.0 * thickness) * kSubPixel), color,
                  cv::FILLED, cv::LINE_AA, kShift);
     return;
   }
@@ -510,10 +510,16 @@ void PlotCanvas::drawSeries(cv::Mat& img, const Layout& l) const {
   for (const Series& s : series_) {
     switch (s.kind) {
       case Series::Kind::Polyline: {
+        const double min_step = std::max(1.0, s.size / 3.0);
         std::vector<cv::Point2d> run;
         for (size_t i = 0; i <= s.xs.size(); ++i) {
           if (i < s.xs.size() && finitePair(s.xs[i], s.ys[i])) {
-            run.push_back(m(s.xs[i], s.ys[i]));
+            // Points within a pixel (a third of the line width) of the last one kept add
+            // nothing visible but drawing time (long runs at 60 Hz); a run's ends are kept.
+            const cv::Point2d p = m(s.xs[i], s.ys[i]);
+            const bool run_ends = i + 1 >= s.xs.size() || !finitePair(s.xs[i + 1], s.ys[i + 1]);
+            if (!run.empty() && !run_ends && std::hypot(p.x - run.back().x, p.y - run.back().y) < min_step) continue;
+            run.push_back(p);
             continue;
           }
           if (!run.empty()) drawRun(area, run, s.color, s.size, s.style);

@@ -357,6 +357,18 @@ TEST(EvaluationPlots, TrajectoriesShowEachRobotInItsTeamColourWhereItDrove) {
   EXPECT_GT(meanColumn(img, truthShade(yellow)), meanColumn(img, truthShade(blue)) + 200);
 }
 
+TEST(EvaluationPlots, AWildPositionDoesNotShrinkTheField) {
+  auto robots = twoRobots();
+  const cv::Mat normal = renderTrajectories(robots, FieldGeometry{});
+  robots[1].tracked_x[3] = 1e300;  // a broken track
+  robots[1].tracked_y[4] = -40.0;
+  const cv::Mat wild = renderTrajectories(robots, FieldGeometry{});
+  const cv::Scalar carpet = cv::Scalar(normal.at<cv::Vec3b>(normal.rows / 2, normal.cols / 3));
+  const int carpet_px = countColor(normal, carpet, 2);
+  EXPECT_GT(carpet_px, normal.total() / 3);  // the field fills the figure
+  EXPECT_NEAR(countColor(wild, carpet, 2), carpet_px, carpet_px * 0.01);
+}
+
 TEST(EvaluationPlots, PositionErrorHasBothSeries) {
   ErrorSeries e;
   for (int i = 0; i < 300; ++i) {
