@@ -52,7 +52,7 @@ struct PipelineCamera {
 // Table II's stages [ms]: preprocessing = illumination adaptation; classification = pixel
 // classification; recognition = morphology + regions + identification (robots, ball, pose);
 // tracking = Kalman update + output + the next frame's windows and search decision.
-struct StageTimes {
+struct PipelineTimings {
   double preprocessing = 0, classification = 0, recognition = 0, tracking = 0;
   double total() const { return preprocessing + classification + recognition + tracking; }
 };
@@ -64,7 +64,7 @@ struct PipelineFrame {
   bool global_search = true;    // this frame was searched whole
   GlobalSearchReason search_reason = GlobalSearchReason::First;  // None: windows
   std::size_t windows = 0;      // rectangles searched (windows + entry bands)
-  StageTimes times;
+  PipelineTimings times;
   CameraFrameDetections detections;
   // The tracks predicted to this stamp before this frame's measurements (the Kalman
   // prediction the windows were made from; paper Fig. 6), and the output after them.
