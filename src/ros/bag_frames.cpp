@@ -124,17 +124,20 @@ std::size_t BagFrames::forEachImage(const std::vector<int>& camera_ids, const Im
   return visited;
 }
 
-cv::Mat BagFrames::firstImage(int camera_id, PixelLayout* layout) const {
+cv::Mat BagFrames::image(int camera_id, std::size_t index, PixelLayout* layout) const {
   const BagCamera* c = camera(camera_id);
   if (!c) return {};
   rosbag::View view(*bag_, rosbag::TopicQuery(c->ns + kImageSuffix));
+  std::size_t k = 0;
   for (const rosbag::MessageInstance& m : view) {
+    if (k++ != index) continue;
     const auto msg = m.instantiate<sensor_msgs::Image>();
-    const auto l = msg ? pixelLayoutForEncoding(msg->encoding) : std::nullopt;
-    if (!l) continue;
-    const cv::Mat image = imageView(*msg, *l);
-    if (image.empty()) continue;
-    if (layout) *layout = *l;
+    if (!msg) return {};
+    const std::optional<PixelLayout> l = pixelLayoutForEncoding(msg->encoding);
+    if (!l.has_value()) return {};
+    const cv::Mat image = imageView(*msg, l.value());
+    if (image.empty()) return {};
+    if (layout) *layout = l.value();
     return image.clone();
   }
   return {};

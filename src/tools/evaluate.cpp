@@ -14,9 +14,11 @@
 //
 // Lists take one entry per camera, in camera order. What is not given is taken from the
 // files make_scenario writes beside the bag: truth.jsonl (when the bag has no ground-truth
-// topics), samples[_camera_<n>].yaml, field_points[_camera_<n>].yaml; the calibration image
-// defaults to the camera's first frame in the bag (for a Bayer camera: its quad colours,
-// what the classifier reads). Colour tables are built with calibrate_colors' code
+// topics), samples_camera_<n>_frame_<i>.yaml (samples on frame i: the table is calibrated
+// on all of those frames of the bag) or samples[_camera_<n>].yaml (on the first frame),
+// field_points[_camera_<n>].yaml. Without --calibration-image the samples are taken from
+// the bag's frames themselves (for a Bayer camera: their quad colours, what the
+// classifier reads). Colour tables are built with calibrate_colors' code
 // (calibrateColorTable), camera poses with calibrate_field's (solveCameraPose).
 //
 // Reports (printed; --json as one object): robot/ball/all detection rate and precision,
@@ -31,6 +33,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -174,30 +177,69 @@ std::string cameraFile(const std::vector<std::string>& given, std::size_t index,
 }
 
 // The colour table of one camera, given or calibrated like calibrate_colors does.
-// `first`: the camera's first frame in the bag, in `layout`.
-std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, std::size_t index, int camera_id,
-                                                        const cv::Mat& first, sv::PixelLayout layout) {
+// make_scenario's calibration samples of a camera beside the bag:
+// samples_camera_<n>_frame_<i>.yaml -> (i, path), by frame.
+std::map<std::size_t, std::string> calibrationSamplesBeside(const std::string& bag, int camera_id) {
+  const std::string prefix = "samples_camera_" + std::to_string(camera_id) + "_frame_";
+  std::map<std::size_t, std::string> found;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(directoryOf(bag), ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || name.size() <= prefix.size() + 5 || name.substr(name.size() - 5) != ".yaml") continue;
+    const std::string index = name.substr(prefix.size(), name.size() - prefix.size() - 5);
+    if (index.find_first_not_of("0123456789") == std::string::npos) found[std::stoul(index)] = entry.path().string();
+  }
+  return found;
+}
+
+// The colour table of one camera: given, or calibrated like calibrate_colors does from
+// samples on frames of the bag (their quad colours for Bayer: what the classifier reads).
+std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const sv::BagFrames& bag, std::size_t index,
+                                                        int camera_id) {
   if (!o.colors.empty()) {
     if (index >= o.colors.size()) throw std::invalid_argument("--colors has no entry for camera " + std::to_string(camera_id));
     return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::ColorTable::load(o.colors[index])));
   }
-  const std::string samples = cameraFile(o.samples, index, "--samples", o.bag, "samples", ".yaml", camera_id);
+  // Samples per bag frame: the ones given (on the first frame or the calibration image),
+  // else make_scenario's calibration frames, else its samples.yaml on the first frame.
+  std::map<std::size_t, std::string> samples;
+  if (o.samples.empty()) samples = calibrationSamplesBeside(o.bag, camera_id);
   if (samples.empty()) {
-    throw std::invalid_argument("camera " + std::to_string(camera_id) + ": no colour table (--colors) and no samples "
-                                "(--samples, or samples.yaml beside the bag)");
+    const std::string file = cameraFile(o.samples, index, "--samples", o.bag, "samples", ".yaml", camera_id);
+    if (file.empty()) {
+      throw std::invalid_argument("camera " + std::to_string(camera_id) + ": no colour table (--colors) and no samples "
+                                  "(--samples, or make_scenario's samples files beside the bag)");
+    }
+    samples[0] = file;
   }
-  sv::CalibrationImage image;
-  image.samples = sv::loadColorSamples(samples);
-  if (!o.calibration_images.empty()) {
-    if (index >= o.calibration_images.size()) throw std::invalid_argument("--calibration-image has no entry for camera " + std::to_string(camera_id));
-    image.bgr = cv::imread(o.calibration_images[index], cv::IMREAD_COLOR);
-    if (image.bgr.empty()) throw std::invalid_argument(o.calibration_images[index] + ": cannot read image");
-  } else {
-    image.bgr = sv::classifiedColors(first, layout);
+  std::vector<sv::CalibrationImage> images;
+  std::string described;
+  for (const auto& [frame, file] : samples) {
+    sv::CalibrationImage image;
+    image.samples = sv::loadColorSamples(file);
+    if (!o.calibration_images.empty()) {
+      if (index >= o.calibration_images.size()) {
+        throw std::invalid_argument("--calibration-image has no entry for camera " + std::to_string(camera_id));
+      }
+      image.bgr = cv::imread(o.calibration_images[index], cv::IMREAD_COLOR);
+      if (image.bgr.empty()) throw std::invalid_argument(o.calibration_images[index] + ": cannot read image");
+    } else {
+      sv::PixelLayout layout = sv::PixelLayout::Bgr;
+      const cv::Mat raw = bag.image(camera_id, frame, &layout);
+      if (raw.empty()) {
+        throw std::invalid_argument(bag.path() + ": camera " + std::to_string(camera_id) + " has no readable frame " +
+                                    std::to_string(frame) + " for " + file);
+      }
+      image.bgr = sv::classifiedColors(raw, layout);
+    }
+    images.push_back(std::move(image));
+    described += (described.empty() ? "" : ", ") + std::to_string(frame);
   }
-  std::printf("camera %d: colour table calibrated from %s on %s\n", camera_id, samples.c_str(),
-              o.calibration_images.empty() ? "its first frame" : o.calibration_images[index].c_str());
-  return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::calibrateColorTable({image})));
+  std::printf("camera %d: colour table calibrated on %s (frame %s of the bag)\n", camera_id,
+              o.calibration_images.empty() ? (std::to_string(images.size()) + " frame(s)").c_str()
+                                           : o.calibration_images[index].c_str(),
+              described.c_str());
+  return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
 }
 
 // Intrinsics from the bag's camera_info, the pose given or solved like calibrate_field.
@@ -513,9 +555,10 @@ int evaluateBag(const Options& o) {
     sv::PipelineCamera pc;
     pc.id = cameras[i]->id;
     pc.model = cameraModel(o, *cameras[i], i);
-    const cv::Mat first = bag.firstImage(pc.id, &pc.layout);
-    if (first.empty()) throw std::invalid_argument(o.bag + ": camera " + std::to_string(pc.id) + " has no readable image");
-    pc.segmentation = colorModel(o, i, pc.id, first, pc.layout);
+    if (bag.image(pc.id, 0, &pc.layout).empty()) {
+      throw std::invalid_argument(o.bag + ": camera " + std::to_string(pc.id) + "'s first image cannot be read");
+    }
+    pc.segmentation = colorModel(o, bag, i, pc.id);
     setup.cameras.push_back(std::move(pc));
   }
   const sv::TruthTimeline truth(loadTruth(o, &bag));

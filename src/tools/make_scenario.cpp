@@ -1,11 +1,15 @@
 // make_scenario: renders a scenario preset into a rosbag (image_raw, camera_info and the
 // ground-truth topics of each camera, with capture stamps) and writes the DESIGN.md
 // exchange files next to it: truth.jsonl, samples.yaml (colour samples on the first
-// frame), field_points.yaml, plus camera_info.yaml and first_frame.png for calibration.
+// frame), field_points.yaml, plus camera_info.yaml and first_frame.png for calibration,
+// and samples_camera_<n>_frame_<i>.yaml for the frames a table is calibrated on (as
+// calibrate_synthetic: 6 frames 1.5 s apart, those within the recording).
 //
 //   rosrun soccer_vision make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag
 //       [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]
 //       [--compression lz4|bz2|none]
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -26,6 +30,7 @@
 #include "soccer_vision/game_simulator.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
+#include "soccer_vision/synthetic_calibration.h"
 
 namespace sv = soccer_vision;
 
@@ -133,6 +138,8 @@ int run(const Options& o) {
   const std::string dir = directoryOf(o.out);
   std::vector<sv::FrameRecord> truth;
   const double dt = 1.0 / scenario.fps;
+  const int calibration_spacing =
+      std::max(1, static_cast<int>(std::lround(sv::SyntheticCalibration{}.seconds_between * scenario.fps)));
 
   for (int i = 0; i < o.frames; ++i) {
     const sv::SceneState& scene = sim.state();
@@ -182,6 +189,13 @@ int run(const Options& o) {
       }
       record.stamp = stamp.toSec();
 
+      // Colour samples of the calibration frames, as calibrate_synthetic picks them: one
+      // frame shows only the robots in view, so a table needs several.
+      if (i % calibration_spacing == 0 && i / calibration_spacing < sv::SyntheticCalibration{}.frames) {
+        const auto samples = sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns);
+        sv::writeTextFile(dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
+                          sv::toYaml(samples));
+      }
       if (i == 0) {
         const bool first = &ch == &channels.front();
         const auto samples = sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns);
@@ -216,7 +230,8 @@ int run(const Options& o) {
               o.out.c_str(), o.frames, channels.size(), scenario.width, scenario.height,
               channels.front().renderer->encoding().c_str(), scenario.fps, scenario.name.c_str(),
               patterns.name.c_str(), scenario.blue_robots, scenario.yellow_robots);
-  std::printf("and %s/{truth.jsonl, samples.yaml, field_points.yaml, camera_info.yaml, first_frame.png}\n",
+  std::printf("and %s/{truth.jsonl, samples.yaml, field_points.yaml, camera_info.yaml, first_frame.png, "
+              "samples_camera_<n>_frame_<i>.yaml}\n",
               dir.c_str());
   return 0;
 }

@@ -53,8 +53,9 @@ class BagFrames {
   std::size_t forEachImage(const std::vector<int>& camera_ids, const ImageVisitor& visit,
                            BagImageProblems* problems = nullptr) const;
 
-  // The first readable image of a camera (a deep copy) and its layout; empty Mat if none.
-  cv::Mat firstImage(int camera_id, PixelLayout* layout = nullptr) const;
+  // The index-th image of a camera in recording order (a deep copy) and its layout; an
+  // empty Mat when there is no such image or it cannot be read.
+  cv::Mat image(int camera_id, std::size_t index, PixelLayout* layout = nullptr) const;
 
   // One FrameRecord per stamp from the ground-truth topics, merged over cameras: an object
   // is visible when any camera sees it. Empty when the bag has no ground truth.
