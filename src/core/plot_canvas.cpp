@@ -665,7 +665,7 @@ void writePng(const cv::Mat& img, const std::string& png_path) {
     throw std::runtime_error("cannot write plot '" + png_path + "': directory '" + dir.string() + "' does not exist");
   bool written = false;
   try {
-    written = cv::imwrite(png_path, img);
+    written = cv::imwrite(png_path, img, {cv::IMWRITE_PNG_COMPRESSION, 9});  // figures are kept in docs/
   } catch (const cv::Exception& e) {
     throw std::runtime_error("cannot write plot '" + png_path + "': " + e.what());
   }

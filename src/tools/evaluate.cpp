@@ -9,6 +9,7 @@
 //       [--field-points F.yaml[,F1.yaml] | --camera-pose C.yaml[,C1.yaml]] [--patterns NAME|FILE]
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]
 //       [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]
+//       [--markdown section.md [--title TEXT]]
 //   rosbag-less:  evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)
 //       [--json report.json] [--plots DIR]
 //
@@ -26,6 +27,8 @@
 // second; Table II (time per stage with and without dynamic windows, same bag and frame
 // step); with --sweep Table I (frame step 1-4 x window side 50/100/200/400 px: time,
 // processed, global-search, window and failed frames, failure and success rates).
+// --markdown FILE: the tables as a Markdown section beside the paper's (docs/EVALUATION.md
+// is made of them: scripts/evaluate_presets).
 // --plots DIR: trajectories.png (the first 20 s), position_error.png, stage_times.png,
 // prediction_error.png (a run per frame step 1-4, from the sweep when there is one).
 // Exit status: 0 done, 2 bad arguments or unreadable inputs.
@@ -57,6 +60,7 @@
 #include "soccer_vision/ros/bag_frames.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/vision_pipeline.h"
+#include "evaluate_report.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -65,7 +69,7 @@ using nlohmann::json;
 namespace {
 
 struct Options {
-  std::string bag, truth, results, json, plots, patterns = "two_tag";
+  std::string bag, truth, results, json, plots, markdown, title, patterns = "two_tag";
   std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
@@ -79,6 +83,7 @@ void usage() {
          "         [--field-points F.yaml[,..] | --camera-pose C.yaml[,..]] [--patterns two_tag|ssl|team_only|FILE]\n"
          "         [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]\n"
          "         [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]\n"
+         "         [--markdown section.md [--title TEXT]]\n"
          "       evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)\n"
          "         [--json report.json] [--plots DIR]\n";
 }
@@ -119,6 +124,8 @@ Options parse(int argc, char** argv) {
     else if (a == "--results") o.results = value();
     else if (a == "--json") o.json = value();
     else if (a == "--plots") o.plots = value();
+    else if (a == "--markdown") o.markdown = value();
+    else if (a == "--title") o.title = value();
     else if (a == "--patterns") o.patterns = value();
     else if (a == "--colors") o.colors = splitList(value());
     else if (a == "--samples") o.samples = splitList(value());
@@ -261,6 +268,18 @@ sv::CameraModel cameraModel(const Options& o, const sv::BagCamera& camera, std::
   return pose.model();
 }
 
+const char* encodingName(sv::PixelLayout layout) {
+  switch (layout) {
+    case sv::PixelLayout::Bgr: return "bgr8";
+    case sv::PixelLayout::Rgb: return "rgb8";
+    case sv::PixelLayout::BayerRggb: return "bayer_rggb8";
+    case sv::PixelLayout::BayerBggr: return "bayer_bggr8";
+    case sv::PixelLayout::BayerGbrg: return "bayer_gbrg8";
+    case sv::PixelLayout::BayerGrbg: return "bayer_grbg8";
+  }
+  return "?";
+}
+
 // --- Runs --------------------------------------------------------------------
 
 struct RunStats {
@@ -373,42 +392,6 @@ json stageJson(const RunStats& s) {
   return j;
 }
 
-void printScore(const json& j) {
-  const json& r = j["robots"];
-  const json& b = j["ball"];
-  const json& a = j["all"];
-  std::printf("robots: detection %.3f %%, precision %.3f %% (%lld of %lld matched, %lld false), position RMSE %.2f mm, "
-              "heading RMSE %.2f deg\n",
-              100 * r["detection_rate"].get<double>(), 100 * r["precision"].get<double>(),
-              r["matched"].get<long long>(), r["truth"].get<long long>(), r["false_positives"].get<long long>(),
-              r["position_rmse_mm"].get<double>(), r["heading_rmse_deg"].get<double>());
-  std::printf("ball:   detection %.3f %%, precision %.3f %% (%lld of %lld matched, %lld false), position RMSE %.2f mm\n",
-              100 * b["detection_rate"].get<double>(), 100 * b["precision"].get<double>(),
-              b["matched"].get<long long>(), b["truth"].get<long long>(), b["false_positives"].get<long long>(),
-              b["position_rmse_mm"].get<double>());
-  std::printf("all:    detection %.3f %%, precision %.3f %%; identity switches %lld, identity errors %lld; "
-              "%lld frames scored, %lld failed, %lld without truth\n",
-              100 * a["detection_rate"].get<double>(), 100 * a["precision"].get<double>(),
-              j["identity_switches"].get<long long>(), j["identity_errors"].get<long long>(),
-              j["frames_scored"].get<long long>(), j["failed_frames"].get<long long>(),
-              j["frames_without_truth"].get<long long>());
-}
-
-void printTable2(const json& with, const json& without) {
-  std::printf("\nTable II: time per stage [ms, mean per processed frame] (paper: 17.3/19.1, 96.4/107.4, 15.0/15.4, "
-              "0.5/0.6, 130.2/141.8)\n");
-  std::printf("  %-36s %14s %14s\n", "", "w/ windows", "w/o windows");
-  const std::pair<const char*, const char*> rows[] = {{"preprocessing", "Pretreatment (illumination)"},
-                                                      {"classification", "Pixel classification"},
-                                                      {"recognition_and_pose", "Recognition and pose"},
-                                                      {"tracking", "Target tracking (+ windows)"},
-                                                      {"total", "Total"}};
-  for (const auto& [key, label] : rows) {
-    std::printf("  %-36s %14.3f %14.3f\n", label, with[key]["mean_ms"].get<double>(),
-                without[key]["mean_ms"].get<double>());
-  }
-}
-
 json runSummary(const RunStats& s) {
   const std::int64_t scored = s.evaluation.total().frames;
   const double failure = scored > 0 ? static_cast<double>(s.evaluation.failedFrames()) / scored : 0.0;
@@ -425,21 +408,6 @@ json runSummary(const RunStats& s) {
           {"robot_precision", s.evaluation.total().robotPrecision()},
           {"robot_position_rmse_mm", 1e3 * s.evaluation.total().robotPositionRmse()},
           {"prediction_rmse_mm", 1e3 * s.evaluation.predictionRmse()}};
-}
-
-void printTable1(const json& rows) {
-  std::printf("\nTable I: frame step x window side (paper, 30 fps video: 3-50 3-100 3-200 2-200 4-200 -> success "
-              "0.97 0.98 0.98 0.97 0.97)\n");
-  std::printf("  %-10s %9s %9s %9s %9s %7s %9s %9s %10s %10s\n", "step-R", "time [s]", "processed", "global",
-              "windows", "failed", "fail rate", "success", "detection", "pred. RMSE");
-  for (const json& r : rows) {
-    std::printf("  %-10s %9.3f %9lld %9lld %9lld %7lld %9.4f %9.4f %9.3f%% %7.1f mm\n",
-                (std::to_string(r["frame_step"].get<int>()) + "-" + std::to_string(r["window_side"].get<int>())).c_str(),
-                r["time_s"].get<double>(), r["processed_frames"].get<long long>(),
-                r["global_search_frames"].get<long long>(), r["window_frames"].get<long long>(),
-                r["failed_frames"].get<long long>(), r["failure_rate"].get<double>(), r["success_rate"].get<double>(),
-                100 * r["robot_detection_rate"].get<double>(), r["prediction_rmse_mm"].get<double>());
-  }
 }
 
 // --- Plots ------------------------------------------------------------------------
@@ -533,7 +501,7 @@ int resultsOnly(const Options& o) {
               truth.size());
   json report = scoreJson(e);
   report["results"] = o.results;
-  printScore(report);
+  sv::printScore(report);
   if (!o.json.empty()) writeJson(o.json, report);
   if (!o.plots.empty()) writePlots(o.plots, e, nullptr, {}, sv::FieldGeometry{});
   return 0;
@@ -592,8 +560,14 @@ int evaluateBag(const Options& o) {
   report["global_search_frames"] = main.global;
   report["window_frames"] = main.windowed;
   report["frames_per_second"] = main.processed / main.seconds;
+  report["images"] = main.images;
+  report["cameras"] = setup.cameras.size();
+  report["width"] = setup.cameras.front().model.width();
+  report["height"] = setup.cameras.front().model.height();
+  report["encoding"] = encodingName(setup.cameras.front().layout);
+  report["pattern"] = setup.patterns.name;
   report["stages"] = stageJson(main);
-  if (setup.truth) printScore(report);
+  if (setup.truth) sv::printScore(report);
   std::printf("speed:  %.0f frames/s in-process (%.3f ms mean, p50 %.3f, p99 %.3f ms per frame), %lld global-search "
               "frames, %lld in windows\n",
               main.processed / main.seconds, mean(main.total), percentile(main.total, 0.5),
@@ -606,7 +580,7 @@ int evaluateBag(const Options& o) {
     const json with = o.windows ? stageJson(main) : stageJson(other);
     const json without = o.windows ? stageJson(other) : stageJson(main);
     report["table2"] = {{"with_windows", with}, {"without_windows", without}};
-    printTable2(with, without);
+    sv::printTable2(with, without);
   }
 
   std::vector<std::unique_ptr<RunStats>> sweep_runs;
@@ -628,7 +602,7 @@ int evaluateBag(const Options& o) {
       }
     }
     report["table1"] = rows;
-    printTable1(rows);
+    sv::printTable1(rows);
   }
   if (!o.plots.empty() && setup.truth) {
     if (predictions.empty()) {
@@ -642,6 +616,11 @@ int evaluateBag(const Options& o) {
     writePlots(o.plots, main.evaluation, &main, predictions, setup.field);
   }
   if (!o.json.empty()) writeJson(o.json, report);
+  if (!o.markdown.empty()) {
+    std::ofstream md(o.markdown);
+    md << sv::markdownReport(report, o.title.empty() ? o.bag : o.title);
+    if (!md) throw std::runtime_error(o.markdown + ": cannot write the Markdown report");
+  }
   if (results) std::printf("results: %zu frames written to %s\n", results->written(), o.results.c_str());
   return 0;
 }
