@@ -87,6 +87,7 @@ class VisionPipeline {
   const Tracker& tracker() const { return tracker_; }
   const VisionPipelineParams& params() const { return params_; }
   const std::vector<PipelineCamera>& cameras() const { return cameras_; }
+  const PipelineCamera* camera(int camera_id) const;  // nullptr for an unknown camera
 
  private:
   struct CameraState {

@@ -41,11 +41,18 @@ VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const Patter
   }
 }
 
+const PipelineCamera* VisionPipeline::camera(int camera_id) const {
+  for (const PipelineCamera& c : cameras_) {
+    if (c.id == camera_id) return &c;
+  }
+  return nullptr;
+}
+
 PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, double stamp) {
-  const auto it = std::find_if(cameras_.begin(), cameras_.end(), [&](const PipelineCamera& c) { return c.id == camera_id; });
-  if (it == cameras_.end()) throw std::invalid_argument("VisionPipeline: unknown camera " + std::to_string(camera_id));
-  const std::size_t index = static_cast<std::size_t>(it - cameras_.begin());
-  const PipelineCamera& camera = *it;
+  const PipelineCamera* found = camera(camera_id);
+  if (!found) throw std::invalid_argument("VisionPipeline: unknown camera " + std::to_string(camera_id));
+  const std::size_t index = static_cast<std::size_t>(found - cameras_.data());
+  const PipelineCamera& camera = *found;
   CameraState& state = state_[index];
 
   PipelineFrame frame;

@@ -308,12 +308,9 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
       ids,
       [&](const sv::BagCamera& camera, const sensor_msgs::Image& msg, const cv::Mat& image, sv::PixelLayout layout) {
         ++s.images;
-        const auto& pc = pipeline.cameras()[static_cast<std::size_t>(
-            std::find_if(pipeline.cameras().begin(), pipeline.cameras().end(),
-                         [&](const sv::PipelineCamera& p) { return p.id == camera.id; }) -
-            pipeline.cameras().begin())];
+        const sv::PipelineCamera& pc = *pipeline.camera(camera.id);
         if (layout != pc.layout || image.cols != pc.model.width() || image.rows != pc.model.height()) {
-          ++setup.problems.truncated;  // does not fit the camera's calibration: not processable
+          ++setup.problems.other_format;  // not what the camera's calibration was made for
           return;
         }
         const double stamp = msg.header.stamp.toSec();
@@ -547,9 +544,11 @@ int evaluateBag(const Options& o) {
               static_cast<long long>(main.processed), o.frame_step,
               o.windows ? ("windows R = " + std::to_string(o.window_side) + " px").c_str() : "no windows",
               setup.patterns.name.c_str(), setup.truth ? "ground truth found" : "NO ground truth");
-  if (setup.problems.unsupported_encoding + setup.problems.truncated > 0) {
-    std::printf("skipped: %zu images of unsupported encodings, %zu truncated or of another size\n",
-                setup.problems.unsupported_encoding, setup.problems.truncated);
+  const sv::BagImageProblems& skipped = setup.problems;
+  if (skipped.unsupported_encoding + skipped.truncated + skipped.other_format > 0) {
+    std::printf("skipped: %zu images of unsupported encodings, %zu truncated, %zu of another size or encoding than "
+                "the camera's first\n",
+                skipped.unsupported_encoding, skipped.truncated, skipped.other_format);
   }
   json report = scoreJson(main.evaluation);
   report["bag"] = o.bag;

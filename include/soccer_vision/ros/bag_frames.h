@@ -32,6 +32,7 @@ struct BagCamera {
 // Why an image was not handed on.
 struct BagImageProblems {
   std::size_t unsupported_encoding = 0, truncated = 0;
+  std::size_t other_format = 0;  // counted by the caller: not the size / layout it expects
   std::map<std::string, std::size_t> encodings;  // unsupported encodings seen
 };
 
