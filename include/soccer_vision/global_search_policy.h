@@ -3,7 +3,9 @@
 //  - the first frame, and the first after the tracker reset its time line;
 //  - when there are no tracks at all;
 //  - when a target expected in this camera (predicted centre inside the image, see
-//    SearchWindow::expected) was not measured in this camera's last frame;
+//    SearchWindow::expected) was not measured in this camera's last frame, if that frame
+//    was searched in windows (a miss of the whole-frame search is looked for in the next
+//    frame's windows first);
 //  - at least every period_frames processed frames (1: always; 0: never periodically).
 // Per camera, per processed frame:
 //   report = tracker.update(frame);  policy.observe(report);
@@ -53,6 +55,7 @@ class GlobalSearchPolicy {
   std::vector<int> expected_;  // track ids expected in the frame being searched
   std::vector<int> missing_;
   int frames_since_global_ = 0;
+  bool searched_whole_ = false;  // the last decide() planned a whole-frame search
   std::array<long, kNumGlobalSearchReasons> counts_{};
 };
 

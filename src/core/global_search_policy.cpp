@@ -26,6 +26,7 @@ void GlobalSearchPolicy::setParams(const GlobalSearchParams& p) {
 
 void GlobalSearchPolicy::restart() {
   first_ = true;
+  searched_whole_ = false;
   reset_seen_ = false;
   expected_.clear();
   missing_.clear();
@@ -39,6 +40,11 @@ void GlobalSearchPolicy::observe(const TrackerUpdateReport& report) {
     reset_seen_ = true;
     return;  // the expected tracks belonged to the old time line
   }
+  // A target a whole-frame search did not find is not where windows could miss it: the
+  // next (windowed) frame looks for it in its grown window, and only a miss there
+  // calls for the whole frame again. (Under heavy noise, where a robot is missed now and
+  // then wherever it is, a whole-frame search would otherwise follow every one.)
+  if (searched_whole_) return;
   for (int id : expected_) {
     if (std::find(report.measured_track_ids.begin(), report.measured_track_ids.end(), id) ==
         report.measured_track_ids.end()) {
@@ -68,6 +74,7 @@ GlobalSearchReason GlobalSearchPolicy::decide(const std::vector<SearchWindow>& n
     if (w.expected) expected_.push_back(w.track_id);
   }
   frames_since_global_ = reason == GlobalSearchReason::None ? frames_since_global_ + 1 : 0;
+  searched_whole_ = reason != GlobalSearchReason::None;
   ++counts_[static_cast<int>(reason)];
   return reason;
 }

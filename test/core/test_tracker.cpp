@@ -313,8 +313,13 @@ TEST(GlobalSearchPolicy, FiresFirstPeriodicallyOnMissingTargetsNoTracksAndAfterR
   policy.observe(missed);
   EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::TargetMissing);
   ASSERT_EQ(policy.missing().size(), 0u);  // consumed by the decision
-  policy.observe(missed);
+  policy.observe(missed);  // missed by that whole-frame search: its window comes first
+  EXPECT_TRUE(policy.missing().empty());
+  EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::None);
+  policy.observe(missed);  // and missed there too: the whole frame again
   EXPECT_EQ(policy.decide(windowFor(7, false), 1), GlobalSearchReason::TargetMissing);
+  policy.observe(missed);  // (whole frame: ignored)
+  EXPECT_EQ(policy.decide(windowFor(7, false), 1), GlobalSearchReason::None);
   policy.observe(missed);  // 7 was not expected in this camera: missing it is fine
   EXPECT_EQ(policy.decide(windowFor(7, false), 1), GlobalSearchReason::None);
   policy.observe(missed);
