@@ -317,7 +317,13 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
       const auto it = tracker_params_.camera_measurement_offsets.find(frame.camera_id);
       if (it == tracker_params_.camera_measurement_offsets.end() || it->second != *camera.measurement_offset) {
         tracker_params_.camera_measurement_offsets[frame.camera_id] = *camera.measurement_offset;
-        tracker_.setParams(tracker_params_);  // validated at start-up
+        try {
+          tracker_.setParams(tracker_params_);
+        } catch (const std::exception& e) {  // range checked at start-up: not expected
+          NODELET_ERROR_THROTTLE(5.0, "%s: measurement offset not applied: %s", camera.ns.c_str(), e.what());
+          tracker_params_ = tracker_.params();
+          camera.measurement_offset.reset();
+        }
       }
     }
     const TrackerUpdateReport report = tracker_.update(frame);
