@@ -47,6 +47,12 @@ class IlluminationModel {
   double drift_phase_ = 0;
 };
 
+// When, after its capture stamp (the start of the exposure), the scene is that a frame
+// shows on average: exposure / 2 with motion blur (sub-exposures spread evenly over the
+// exposure), 0 without (the scene at the stamp). What a measurement from that frame
+// describes; the tracker's measurement_offset for the synthetic camera.
+double shownTimeAfterStamp(const SensorConfig& sensor);
+
 struct RenderedFrame {
   // Output image: CV_8UC3 BGR, or CV_8UC1 Bayer mosaic when SensorConfig::bayer is set.
   // If the caller passes a pre-allocated matrix of the right size and type (e.g. wrapping

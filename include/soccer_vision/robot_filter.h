@@ -13,6 +13,13 @@
 // 180° flip of the pattern) does not discard a good position. Rejections are counted;
 // after `reinit_after_rejections` consecutive ones the filter restarts at the
 // measurement (the robot really is there: it was carried, or the filter diverged).
+// Manoeuvres: robots collide and stop dead (5 m/s to 0 within a frame: 83 mm off the
+// constant-velocity prediction at 60 Hz, far outside the gate of a converged filter). A
+// position outside the gate but within maneuver_speed_change × (time since the last
+// update) + gate_min_distance of the prediction is taken as such a velocity change: the
+// covariance is widened as a velocity jump of std-dev maneuver_speed_change / 2 at the
+// last update would widen it, and the measurement corrects position and velocity at once
+// (instead of the track coasting on the old velocity for reinit_after_rejections frames).
 #pragma once
 
 #include <Eigen/Core>
@@ -33,6 +40,8 @@ struct RobotFilterParams {
                                    //     (camera-to-camera calibration mismatch, tight filters)
   double gate_min_angle = 0.15;    // [rad] headings this close always pass
   int reinit_after_rejections = 3; // consecutive rejections that restart the filter (>= 1)
+  double maneuver_speed_change = 8.0;  // [m/s] largest velocity change taken as a manoeuvre
+                                       //       (a robot at 5 m/s stopped or bounced); 0 = off
 };
 
 // Checks ranges; throws std::invalid_argument naming the parameter.
@@ -48,7 +57,9 @@ enum class GateResult {
   Accepted,            // full update
   HeadingRejected,     // position used, heading discarded as outlier
   Rejected,            // whole measurement discarded as outlier
-  Reinitialised        // too many rejections in a row: restarted at the measurement
+  Reinitialised,       // too many rejections in a row: restarted at the measurement
+  Maneuver             // outside the gate, within a manoeuvre's reach: position and velocity
+                       // corrected (heading as for Accepted / HeadingRejected)
 };
 
 class RobotFilter {
@@ -87,6 +98,7 @@ class RobotFilter {
   Covariance P_ = Covariance::Identity();
   int rejections_ = 0;
   int heading_rejections_ = 0;
+  double since_update_ = 0;  // [s] predicted since the last accepted position
 };
 
 }  // namespace soccer_vision

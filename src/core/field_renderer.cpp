@@ -87,6 +87,10 @@ cv::Vec3f classAlbedo(ColorClass c) {
   return fromRgb(110, 105, 100);
 }
 
+double shownTimeAfterStamp(const SensorConfig& sensor) {
+  return sensor.blur_samples > 1 ? sensor.exposure / 2 : 0.0;
+}
+
 struct FieldRenderer::Impl {
   CameraModel camera;
   FieldGeometry field;
@@ -417,6 +421,7 @@ struct FieldRenderer::Impl {
     std::vector<SceneState> states;
     std::vector<std::vector<Drawable>> items;
     for (int k = 0; k < samples; ++k) {
+      // Evenly over the exposure: their mean is shownTimeAfterStamp().
       states.push_back(samples == 1 ? scene : extrapolate(scene, scenario.sensor.exposure * (k + 0.5) / samples));
       items.push_back(drawables(states.back()));
     }

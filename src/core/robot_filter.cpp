@@ -36,6 +36,9 @@ void validate(const RobotFilterParams& p) {
   requirePositive(p.gate_heading_d2, "gate_heading_d2");
   if (!(p.gate_min_distance >= 0)) throw std::invalid_argument("robot filter: gate_min_distance must be >= 0");
   if (!(p.gate_min_angle >= 0)) throw std::invalid_argument("robot filter: gate_min_angle must be >= 0");
+  if (!(p.maneuver_speed_change >= 0) || !std::isfinite(p.maneuver_speed_change)) {
+    throw std::invalid_argument("robot filter: maneuver_speed_change must be >= 0");
+  }
   if (p.reinit_after_rejections < 1) {
     throw std::invalid_argument("robot filter: reinit_after_rejections must be >= 1");
   }
@@ -57,6 +60,7 @@ void RobotFilter::start(const RobotMeasurement& m) {
   if (!m.heading_valid) P_(2, 2) = kUnknownHeadingSigma * kUnknownHeadingSigma;
   rejections_ = 0;
   heading_rejections_ = 0;
+  since_update_ = 0;
 }
 
 void RobotFilter::startHeading(double theta) {
@@ -86,6 +90,7 @@ void RobotFilter::predict(double dt) {
   predicted(dt, x, P);
   x_ = x;
   P_ = P;
+  since_update_ += dt;
 }
 
 double RobotFilter::positionDistance2(double x, double y) const {
@@ -109,8 +114,22 @@ void RobotFilter::applyUpdate(const Eigen::VectorXd& innovation, const Eigen::Ma
 
 GateResult RobotFilter::update(const RobotMeasurement& m) {
   const double dx = m.x - x_(0), dy = m.y - x_(1);
-  const bool position_ok = std::hypot(dx, dy) <= p_.gate_min_distance ||
-                           positionDistance2(m.x, m.y) <= p_.gate_position_d2;
+  const double distance = std::hypot(dx, dy);
+  bool position_ok = distance <= p_.gate_min_distance || positionDistance2(m.x, m.y) <= p_.gate_position_d2;
+  const bool maneuver = !position_ok && p_.maneuver_speed_change > 0 &&
+                        distance <= p_.maneuver_speed_change * since_update_ + p_.gate_min_distance;
+  if (maneuver) {
+    // A velocity jump dv at the last update moves the position by dv * t since then.
+    const double var = 0.25 * p_.maneuver_speed_change * p_.maneuver_speed_change;
+    const double t = since_update_;
+    for (int i = 0; i < 2; ++i) {
+      P_(i, i) += var * t * t;
+      P_(i, i + 3) += var * t;
+      P_(i + 3, i) += var * t;
+      P_(i + 3, i + 3) += var;
+    }
+    position_ok = true;
+  }
   if (!position_ok) {
     if (++rejections_ >= p_.reinit_after_rejections) {
       start(m);
@@ -119,6 +138,7 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     return GateResult::Rejected;
   }
   rejections_ = 0;
+  since_update_ = 0;
 
   bool use_heading = false;
   if (m.heading_valid) {
@@ -149,6 +169,7 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     innovation(2) = wrapToPi(m.theta - x_(2));
   }
   applyUpdate(innovation, H, R);
+  if (maneuver) return GateResult::Maneuver;
   return (m.heading_valid && !use_heading) ? GateResult::HeadingRejected : GateResult::Accepted;
 }
 

@@ -27,7 +27,10 @@ ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index, c
   for (int i = 0; i < how.frames; ++i) {
     RenderedFrame frame;
     renderer.render(sim.state(), static_cast<std::int64_t>(i) * steps_between, frame);
-    images.push_back({classifiedColors(frame.image, *layout), calibrationSamples(sim.state(), renderer.camera(), field, patterns)});
+    // Polygons at the start of the exposure would sample a fast ball's streak at its tail
+    // (a blend with the carpet) and the trailing edges of moving markers.
+    const SceneState shown = extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor));
+    images.push_back({classifiedColors(frame.image, *layout), calibrationSamples(shown, renderer.camera(), field, patterns)});
     for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
   }
   return calibrateColorTable(images);

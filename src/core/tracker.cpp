@@ -46,6 +46,20 @@ void validate(const TrackerParams& p) {
   }
   if (p.max_ball_tracks < 1) throw std::invalid_argument("tracker: max_ball_tracks must be >= 1");
   if (!(p.visible_window >= 0)) throw std::invalid_argument("tracker: visible_window must be >= 0");
+  auto offset = [](double v, const std::string& name) {
+    if (!(std::abs(v) <= 0.1)) {
+      throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " + std::to_string(v) + ")");
+    }
+  };
+  offset(p.measurement_offset, "measurement_offset");
+  for (const auto& [camera, v] : p.camera_measurement_offsets) {
+    offset(v, "the measurement offset of camera " + std::to_string(camera));
+  }
+}
+
+double TrackerParams::measurementOffset(int camera_id) const {
+  const auto it = camera_measurement_offsets.find(camera_id);
+  return it != camera_measurement_offsets.end() ? it->second : measurement_offset;
 }
 
 Tracker::Tracker(const TrackerParams& params) : p_(params), timeline_(params.time) { validate(p_); }
@@ -80,7 +94,9 @@ void Tracker::reset() {
 
 TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   TrackerUpdateReport report;
-  report.time = timeline_.accept(frame.stamp, frame.camera_id);
+  // The filters run on measurement times; a camera whose offset changes by more than its
+  // frame interval at once looks like a backward jump (a reset), as it should.
+  report.time = timeline_.accept(frame.stamp + p_.measurementOffset(frame.camera_id), frame.camera_id);
   ++stats_.frames;
   if (report.time.action == TimeAction::Drop) {
     ++stats_.dropped_frames;
@@ -99,6 +115,7 @@ TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   stats_.robot_outliers += report.robot_outliers;
   stats_.heading_outliers += report.heading_outliers;
   stats_.robots_reinitialised += report.robots_reinitialised;
+  stats_.robot_maneuvers += report.robot_maneuvers;
   stats_.ball_kicks += report.ball_kicks;
   stats_.tracks_created += report.robots_created + report.balls_created;
   stats_.tracks_lost += report.tracks_lost;
@@ -126,13 +143,16 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d,
     return;
   }
   if (gate == GateResult::HeadingRejected) ++report.heading_outliers;
+  if (gate == GateResult::Maneuver) ++report.robot_maneuvers;
   if (gate == GateResult::Reinitialised) {
     ++report.robots_reinitialised;
     track.has_heading = d.heading_valid;
   } else {
-    track.has_heading = track.has_heading || (d.heading_valid && gate == GateResult::Accepted);
+    track.has_heading = track.has_heading ||
+                        (d.heading_valid && (gate == GateResult::Accepted || gate == GateResult::Maneuver));
   }
   track.last_measured = frame.stamp;
+  track.last_time = timeline_.now();
   track.camera_id = frame.camera_id;
   track.confidence += p_.confidence_smoothing * (clamp01(d.confidence) - track.confidence);
   ++track.hits;
@@ -144,7 +164,7 @@ void Tracker::startRobot(const RobotDetection& d, const CameraFrameDetections& f
                          TrackerUpdateReport& report) {
   RobotMeasurement m{d.x, d.y, d.theta, d.heading_valid};
   robots_.push_back(RobotTrack{next_track_id_++, d.team, d.id, RobotFilter(p_.robot, m),
-                               frame.stamp, frame.camera_id, clamp01(d.confidence),
+                               frame.stamp, timeline_.now(), frame.camera_id, clamp01(d.confidence),
                                d.heading_valid, 1});
   ++report.robots_created;
   report.measured_track_ids.push_back(robots_.back().track_id);
@@ -223,7 +243,7 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag,
 
 void Tracker::startBall(const BallDetection& d, const CameraFrameDetections& frame,
                         TrackerUpdateReport& report) {
-  balls_.push_back(BallTrack{next_track_id_++, BallFilter(p_.ball, d.x, d.y), frame.stamp,
+  balls_.push_back(BallTrack{next_track_id_++, BallFilter(p_.ball, d.x, d.y), frame.stamp, timeline_.now(),
                              frame.camera_id, clamp01(d.confidence), d.z, 1, 1.0, timeline_.now()});
   if (primary_ball_ < 0) primary_ball_ = balls_.back().track_id;
   ++report.balls_created;
@@ -249,12 +269,13 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag,
   auto apply = [&](std::size_t ti, std::size_t ci) {
     BallTrack& t = balls_[ti];
     const Eigen::Vector2d p = position(t, *candidates[ci]);
-    const double since = timeline_.now() - t.last_measured;
+    const double since = timeline_.now() - t.last_time;
     const BallGate gate = t.filter.update(p.x(), p.y(), since);
     if (gate == BallGate::Rejected) return;
     if (gate == BallGate::Kick) ++report.ball_kicks;
     used[ci] = true;
     t.last_measured = frame.stamp;
+    t.last_time = timeline_.now();
     t.camera_id = frame.camera_id;
     t.z = candidates[ci]->z;
     t.confidence += p_.confidence_smoothing * (clamp01(candidates[ci]->confidence) - t.confidence);
@@ -277,7 +298,7 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag,
   });
   for (std::size_t ti : order) {
     const BallTrack& t = balls_[ti];
-    const double since = now - t.last_measured;
+    const double since = now - t.last_time;
     std::size_t best = candidates.size();
     bool best_in_gate = false;
     double best_score = INFINITY;
@@ -308,12 +329,12 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag,
 void Tracker::dropLost(TrackerUpdateReport& report) {
   const double now = timeline_.now();
   const auto robot_end = std::remove_if(robots_.begin(), robots_.end(), [&](const RobotTrack& t) {
-    return now - t.last_measured > p_.robot_lost_timeout;
+    return now - t.last_time > p_.robot_lost_timeout;
   });
   report.tracks_lost += static_cast<int>(robots_.end() - robot_end);
   robots_.erase(robot_end, robots_.end());
   const auto ball_end = std::remove_if(balls_.begin(), balls_.end(), [&](const BallTrack& t) {
-    return now - t.last_measured > p_.ball_lost_timeout;
+    return now - t.last_time > p_.ball_lost_timeout;
   });
   report.tracks_lost += static_cast<int>(balls_.end() - ball_end);
   balls_.erase(ball_end, balls_.end());

@@ -19,7 +19,7 @@
 //   field_frame       string  "field"
 //   marker_gate       double  0.020   (dr) [m] max distance of a marker from where the fitted
 //                                     pose puts it.
-//   area_ratio_gate   double  2.5     (dr) observed / expected marker area within [1/g, g].
+//   area_ratio_gate   double  3.5     (dr) observed / expected marker area within [1/g, g].
 //   min_confidence    double  0.05    (dr) robots below are not reported.
 //   max_missing_markers int   1       (dr) id markers a robot may lack (SSL pattern).
 //   report_unidentified bool  false   (dr) report team markers without an id (id 255).

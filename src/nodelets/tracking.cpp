@@ -25,6 +25,13 @@
 //                                     skipped bag) resets all tracks; a backward step always does.
 //   show_windows      bool    false   (dr) publish window_markers: every camera's search windows
 //                                     (entry bands included) projected onto the marker plane.
+//   measurement_offset double 0.0     (dr) [s] when, after a frame's capture stamp, its detections
+//                                     were measured (the middle of the exposure: exposure / 2 for
+//                                     stamps at its start). The tracker runs on measurement times
+//                                     and outputs at the capture stamp, without a lag of v x offset.
+//   measurement_offsets double[] []   Per camera, in the order of `cameras`: its own offset
+//                                     (cameras with different exposures); missing entries use
+//                                     measurement_offset.
 //
 // Published (node namespace): robots (RobotPoseArray), balls (BallPoseArray, primary first),
 //   ball (BallPose, the primary ball; only while there is one), markers (MarkerArray),
@@ -34,6 +41,7 @@
 //   /tf, /diagnostics: rate, latency (capture stamp -> publish, mean/p50/p99), tracks,
 //   resets, outliers, global searches by reason.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -136,6 +144,7 @@ class TrackingNodelet : public nodelet::Nodelet {
     GlobalSearchPolicy policy;
     double last_stamp = 0, interval = 0;  // [s] EMA of the time between frames
     int camera_id = -1;
+    std::optional<double> measurement_offset;  // [s] ~measurement_offsets entry
   };
 
   void onInit() override;
@@ -217,9 +226,24 @@ void TrackingNodelet::onInit() {
   window_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("window_markers", 5);
   field_markers_pub_.publish(boost::make_shared<visualization_msgs::MarkerArray>(fieldMarkers(FieldGeometry{}, field_frame_)));
 
+  std::vector<double> offsets;
+  pnh.getParam("measurement_offsets", offsets);
+  if (offsets.size() > namespaces.size()) {
+    NODELET_ERROR("measurement_offsets has %zu entries for %zu cameras; the extra ones are ignored", offsets.size(),
+                  namespaces.size());
+  }
   for (const std::string& ns : namespaces) {
     auto camera = std::make_unique<Camera>();
     camera->ns = ns;
+    const std::size_t index = cameras_.size();
+    if (index < offsets.size()) {
+      if (std::abs(offsets[index]) <= 0.1) {
+        camera->measurement_offset = offsets[index];
+      } else {
+        NODELET_ERROR("measurement_offsets[%zu] = %g s is outside [-0.1, 0.1] s; %s uses measurement_offset", index,
+                      offsets[index], ns.c_str());
+      }
+    }
     camera->policy = GlobalSearchPolicy(policy_params_);
     Camera* c = camera.get();
     camera->windows_pub = nh.advertise<SearchWindows>(ns + "/search_windows", 2);
@@ -237,6 +261,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   tracker_params_.ball_lost_timeout = config.ball_lost_timeout;
   tracker_params_.min_confidence = config.min_confidence;
   tracker_params_.time.max_forward_jump = config.max_forward_jump;
+  tracker_params_.measurement_offset = config.measurement_offset;
   try {
     tracker_.setParams(tracker_params_);
   } catch (const std::exception& e) {
@@ -287,6 +312,20 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
   {
     std::lock_guard<std::mutex> lock(mutex_);
     camera.camera_id = frame.camera_id;
+    if (camera.measurement_offset) {
+      // Camera ids are known from the detections only: the camera's own offset is keyed by it.
+      const auto it = tracker_params_.camera_measurement_offsets.find(frame.camera_id);
+      if (it == tracker_params_.camera_measurement_offsets.end() || it->second != *camera.measurement_offset) {
+        tracker_params_.camera_measurement_offsets[frame.camera_id] = *camera.measurement_offset;
+        try {
+          tracker_.setParams(tracker_params_);
+        } catch (const std::exception& e) {  // range checked at start-up: not expected
+          NODELET_ERROR_THROTTLE(5.0, "%s: measurement offset not applied: %s", camera.ns.c_str(), e.what());
+          tracker_params_ = tracker_.params();
+          camera.measurement_offset.reset();
+        }
+      }
+    }
     const TrackerUpdateReport report = tracker_.update(frame);
     if (report.reset()) {
       NODELET_WARN("tracker reset: %s of the stamps (camera %d, %.3f s)", timeEventName(report.time.event),
@@ -405,6 +444,8 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("frames dropped (late/invalid stamps)", s.dropped_frames);
   stat.add("resets (time jumps)", s.resets);
   stat.add("robot outliers", s.robot_outliers);
+  stat.add("robot manoeuvres (sudden velocity changes)", s.robot_maneuvers);
+  stat.add("measurement offset [s]", tracker_params_.measurement_offset);
   stat.add("ball kicks", s.ball_kicks);
   stat.add("frames searched whole", global_frames_);
   stat.add("frames searched in windows", windowed_frames_);
