@@ -59,3 +59,17 @@ source_workspace() {
   source "$WS/devel/setup.bash"
   set -u
 }
+
+# What the vision system needs to know about a scenario preset file: its marker pattern
+# (two_tag unless it says so) and the tracker's measurement_offset (a blurred frame shows
+# the middle of its exposure: shownTimeAfterStamp in field_renderer.h).
+scenario_pattern() {
+  local pattern
+  pattern="$(sed -n 's/^pattern:[[:space:]]*\([A-Za-z_]*\).*/\1/p' "$1" 2>/dev/null | head -n 1)"
+  echo "${pattern:-two_tag}"
+}
+scenario_measurement_offset() {
+  /usr/bin/python3 -c 'import sys, yaml
+s = (yaml.safe_load(open(sys.argv[1])) or {}).get("sensor") or {}
+print(s.get("exposure", 0.004) / 2 if s.get("blur_samples", 1) > 1 else 0)' "$1" 2>/dev/null || echo 0
+}

@@ -8,12 +8,16 @@
 //       [--colors T.svct[,T1.svct] | --samples S.yaml[,S1.yaml] [--calibration-image P.png[,P1.png]]]
 //       [--field-points F.yaml[,F1.yaml] | --camera-pose C.yaml[,C1.yaml]] [--patterns NAME|FILE]
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]
+//       [--measurement-offset S[,S1]]
 //       [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]
 //       [--markdown section.md [--title TEXT]]
 //   rosbag-less:  evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)
 //       [--json report.json] [--plots DIR]
 //
-// Lists take one entry per camera, in camera order. What is not given is taken from the
+// Lists take one entry per camera, in camera order. --measurement-offset: seconds after
+// the capture stamp at which a frame's detections were measured (the Tracking nodelet's
+// measurement_offset: exposure / 2 for stamps at the exposure start; one value for all
+// cameras or one per camera). What is not given is taken from the
 // files make_scenario writes beside the bag: truth.jsonl (when the bag has no ground-truth
 // topics), samples_camera_<n>_frame_<i>.yaml (samples on frame i: the table is calibrated
 // on all of those frames of the bag) or samples[_camera_<n>].yaml (on the first frame),
@@ -70,7 +74,7 @@ namespace {
 
 struct Options {
   std::string bag, truth, results, json, plots, markdown, title, patterns = "two_tag";
-  std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
+  std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses, measurement_offsets;
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
   bool windows = true, table2 = true, sweep = false, results_only = false;
@@ -82,6 +86,7 @@ void usage() {
          "         [--colors T.svct[,..] | --samples S.yaml[,..] [--calibration-image P.png[,..]]]\n"
          "         [--field-points F.yaml[,..] | --camera-pose C.yaml[,..]] [--patterns two_tag|ssl|team_only|FILE]\n"
          "         [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]\n"
+         "         [--measurement-offset S[,S1]]\n"
          "         [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]\n"
          "         [--markdown section.md [--title TEXT]]\n"
          "       evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)\n"
@@ -132,6 +137,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--calibration-image") o.calibration_images = splitList(value());
     else if (a == "--field-points") o.field_points = splitList(value());
     else if (a == "--camera-pose") o.camera_poses = splitList(value());
+    else if (a == "--measurement-offset") o.measurement_offsets = splitList(value());
     else if (a == "--cameras") {
       for (const std::string& c : splitList(value())) o.cameras.push_back(integerAtLeast(a, c, 0));
     } else if (a == "--frame-step") o.frame_step = integerAtLeast(a, value(), 1);
@@ -533,6 +539,17 @@ int evaluateBag(const Options& o) {
   params.frame_step = o.frame_step;
   params.windows.side_px = o.window_side;
   params.search_windows = o.windows;
+  for (std::size_t i = 0; i < o.measurement_offsets.size(); ++i) {
+    double offset = 0;
+    try {
+      offset = std::stod(o.measurement_offsets[i]);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("--measurement-offset takes seconds, not '" + o.measurement_offsets[i] + "'");
+    }
+    if (o.measurement_offsets.size() == 1) params.tracker.measurement_offset = offset;
+    else if (i < setup.cameras.size()) params.tracker.camera_measurement_offsets[setup.cameras[i].id] = offset;
+    else throw std::invalid_argument("--measurement-offset has more entries than there are cameras");
+  }
 
   std::unique_ptr<sv::JsonLinesWriter> results;
   if (!o.results.empty()) results = std::make_unique<sv::JsonLinesWriter>(o.results);

@@ -3,7 +3,8 @@
 // exchange files next to it: truth.jsonl, samples.yaml (colour samples on the first
 // frame), field_points.yaml, plus camera_info.yaml and first_frame.png for calibration,
 // and samples_camera_<n>_frame_<i>.yaml for the frames a table is calibrated on (as
-// calibrate_synthetic: 6 frames 1.5 s apart, those within the recording).
+// calibrate_synthetic: 24 frames 0.375 s apart, those within the recording; polygons where
+// the frame shows the objects, i.e. mid-exposure for a blurred frame).
 //
 //   rosrun soccer_vision make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag
 //       [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]
@@ -192,7 +193,9 @@ int run(const Options& o) {
       // Colour samples of the calibration frames, as calibrate_synthetic picks them: one
       // frame shows only the robots in view, so a table needs several.
       if (i % calibration_spacing == 0 && i / calibration_spacing < sv::SyntheticCalibration{}.frames) {
-        const auto samples = sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns);
+        // Where the frame shows the objects (mid-exposure when blurred), as calibrate_synthetic.
+        const sv::SceneState shown = sv::extrapolate(scene, sv::shownTimeAfterStamp(scenario.sensor));
+        const auto samples = sv::calibrationSamples(shown, ch.renderer->camera(), field, patterns);
         sv::writeTextFile(dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
                           sv::toYaml(samples));
       }
