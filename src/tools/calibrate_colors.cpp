@@ -31,6 +31,7 @@
 
 #include "soccer_vision/color_calibration.h"
 #include "soccer_vision/color_table.h"
+#include "soccer_vision/command_line.h"
 #include "soccer_vision/exchange_formats.h"
 #include "soccer_vision/segmenter.h"
 
@@ -56,58 +57,32 @@ void usage() {
                "images and samples pair up in order; one samples file may serve every image\n";
 }
 
-double parseDouble(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty())
-    throw std::invalid_argument(option + " needs a number, got '" + text + "'");
-  return v;
-}
-
 Options parseArgs(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
+  for (sv::CommandLine args(argc, argv); args.next();) {
+    const std::string& a = args.flag();
     if (a == "--image") {
-      o.images.push_back(value());
+      o.images.push_back(args.value());
     } else if (a == "--samples") {
-      o.samples.push_back(value());
+      o.samples.push_back(args.value());
     } else if (a == "--out") {
-      o.out = value();
+      o.out = args.value();
     } else if (a == "--preview") {
-      o.preview = value();
+      o.preview = args.value();
     } else if (a == "--threshold-lab") {
-      o.params.threshold_lab = parseDouble(a, value());
+      o.params.threshold_lab = args.number();
     } else if (a == "--threshold-h") {
-      o.params.threshold_h = parseDouble(a, value());
+      o.params.threshold_h = args.number();
     } else if (a == "--bins") {
-      const std::string v = value();
-      std::vector<int> bins;
-      std::stringstream ss(v);
-      for (std::string part; std::getline(ss, part, ',');) {
-        const double b = parseDouble(a, part);
-        if (b != static_cast<int>(b)) throw std::invalid_argument("--bins takes integers: " + v);
-        bins.push_back(static_cast<int>(b));
-      }
-      if (bins.size() != 3) throw std::invalid_argument("--bins takes H,S,V, got '" + v + "'");
-      o.params.h_bins = bins[0];
-      o.params.s_bins = bins[1];
-      o.params.v_bins = bins[2];
+      const std::vector<std::string> bins = args.list();
+      if (bins.size() != 3) throw std::invalid_argument("--bins takes H,S,V");
+      o.params.h_bins = sv::parseInteger(a, bins[0], 1);
+      o.params.s_bins = sv::parseInteger(a, bins[1], 1);
+      o.params.v_bins = sv::parseInteger(a, bins[2], 1);
     } else if (a == "--v-margin") {
-      const double m = parseDouble(a, value());
-      if (m != static_cast<int>(m)) throw std::invalid_argument("--v-margin takes an integer");
-      o.params.v_margin = static_cast<int>(m);
+      o.params.v_margin = args.integer(0);
     } else if (a == "--light") {
-      const std::string v = value();
+      const std::string v = args.value();
       if (v == "normalized") {
         o.light = sv::CalibrationLight::Normalized;
       } else if (v == "as-captured") {

@@ -23,6 +23,7 @@
 #include "soccer_vision/camera_info_yaml.h"
 #include "soccer_vision/camera_pose_file.h"
 #include "soccer_vision/camera_pose_solver.h"
+#include "soccer_vision/command_line.h"
 #include "soccer_vision/exchange_formats.h"
 
 namespace sv = soccer_vision;
@@ -42,33 +43,16 @@ void usage() {
 
 Options parseArgs(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    auto number = [&](const std::string& text) {
-      std::size_t used = 0;
-      double v = 0;
-      try {
-        v = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || !std::isfinite(v)) throw std::invalid_argument(a + ": '" + text + "' is not a number");
-      return v;
-    };
-    if (a == "--camera-info") o.camera_info = value();
-    else if (a == "--points") o.points = value();
-    else if (a == "--out") o.out = value();
-    else if (a == "--child-frame-id") o.child_frame_id = value();
+  for (sv::CommandLine args(argc, argv); args.next();) {
+    const std::string& a = args.flag();
+    if (a == "--camera-info") o.camera_info = args.value();
+    else if (a == "--points") o.points = args.value();
+    else if (a == "--out") o.out = args.value();
+    else if (a == "--child-frame-id") o.child_frame_id = args.value();
     else if (a == "--camera-id") {
-      const double v = number(value());
-      if (v < 0 || v != std::floor(v)) throw std::invalid_argument("--camera-id must be a non-negative integer");
-      o.camera_id = static_cast<int>(v);
+      o.camera_id = args.integer(0);
     } else if (a == "--max-rms") {
-      o.max_rms = number(value());
+      o.max_rms = args.number();
       if (o.max_rms <= 0) throw std::invalid_argument("--max-rms must be positive");
     } else if (a == "--help" || a == "-h") {
       usage();

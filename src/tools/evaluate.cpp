@@ -58,6 +58,7 @@
 #include "soccer_vision/camera_pose_file.h"
 #include "soccer_vision/camera_pose_solver.h"
 #include "soccer_vision/color_calibration.h"
+#include "soccer_vision/command_line.h"
 #include "soccer_vision/evaluation.h"
 #include "soccer_vision/evaluation_plots.h"
 #include "soccer_vision/result_recording.h"
@@ -74,7 +75,8 @@ namespace {
 
 struct Options {
   std::string bag, truth, results, json, plots, markdown, title, patterns = "two_tag";
-  std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses, measurement_offsets;
+  std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
+  std::vector<double> measurement_offsets;  // [s]
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
   bool windows = true, table2 = true, sweep = false, results_only = false;
@@ -93,55 +95,29 @@ void usage() {
          "         [--json report.json] [--plots DIR]\n";
 }
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
-int integerAtLeast(const std::string& flag, const std::string& value, int min) {
-  std::size_t used = 0;
-  int v = 0;
-  try {
-    v = std::stoi(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || v < min) {
-    throw std::invalid_argument(flag + " takes an integer >= " + std::to_string(min) + ", not '" + value + "'");
-  }
-  return v;
-}
-
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--bag") o.bag = value();
-    else if (a == "--truth") o.truth = value();
-    else if (a == "--results") o.results = value();
-    else if (a == "--json") o.json = value();
-    else if (a == "--plots") o.plots = value();
-    else if (a == "--markdown") o.markdown = value();
-    else if (a == "--title") o.title = value();
-    else if (a == "--patterns") o.patterns = value();
-    else if (a == "--colors") o.colors = splitList(value());
-    else if (a == "--samples") o.samples = splitList(value());
-    else if (a == "--calibration-image") o.calibration_images = splitList(value());
-    else if (a == "--field-points") o.field_points = splitList(value());
-    else if (a == "--camera-pose") o.camera_poses = splitList(value());
-    else if (a == "--measurement-offset") o.measurement_offsets = splitList(value());
-    else if (a == "--cameras") {
-      for (const std::string& c : splitList(value())) o.cameras.push_back(integerAtLeast(a, c, 0));
-    } else if (a == "--frame-step") o.frame_step = integerAtLeast(a, value(), 1);
-    else if (a == "--window-side") o.window_side = integerAtLeast(a, value(), 1);
+  for (sv::CommandLine args(argc, argv); args.next();) {
+    const std::string& a = args.flag();
+    if (a == "--bag") o.bag = args.value();
+    else if (a == "--truth") o.truth = args.value();
+    else if (a == "--results") o.results = args.value();
+    else if (a == "--json") o.json = args.value();
+    else if (a == "--plots") o.plots = args.value();
+    else if (a == "--markdown") o.markdown = args.value();
+    else if (a == "--title") o.title = args.value();
+    else if (a == "--patterns") o.patterns = args.value();
+    else if (a == "--colors") o.colors = args.list();
+    else if (a == "--samples") o.samples = args.list();
+    else if (a == "--calibration-image") o.calibration_images = args.list();
+    else if (a == "--field-points") o.field_points = args.list();
+    else if (a == "--camera-pose") o.camera_poses = args.list();
+    else if (a == "--measurement-offset") {
+      for (const std::string& v : args.list()) o.measurement_offsets.push_back(sv::parseNumber(a, v));
+    } else if (a == "--cameras") {
+      for (const std::string& c : args.list()) o.cameras.push_back(sv::parseInteger(a, c, 0));
+    } else if (a == "--frame-step") o.frame_step = args.integer(1);
+    else if (a == "--window-side") o.window_side = args.integer(1);
     else if (a == "--no-windows") o.windows = false;
     else if (a == "--skip-table2") o.table2 = false;
     else if (a == "--sweep") o.sweep = true;
@@ -540,14 +516,8 @@ int evaluateBag(const Options& o) {
   params.windows.side_px = o.window_side;
   params.search_windows = o.windows;
   for (std::size_t i = 0; i < o.measurement_offsets.size(); ++i) {
-    double offset = 0;
-    try {
-      offset = std::stod(o.measurement_offsets[i]);
-    } catch (const std::exception&) {
-      throw std::invalid_argument("--measurement-offset takes seconds, not '" + o.measurement_offsets[i] + "'");
-    }
-    if (o.measurement_offsets.size() == 1) params.tracker.measurement_offset = offset;
-    else if (i < setup.cameras.size()) params.tracker.camera_measurement_offsets[setup.cameras[i].id] = offset;
+    if (o.measurement_offsets.size() == 1) params.tracker.measurement_offset = o.measurement_offsets[i];
+    else if (i < setup.cameras.size()) params.tracker.camera_measurement_offsets[setup.cameras[i].id] = o.measurement_offsets[i];
     else throw std::invalid_argument("--measurement-offset has more entries than there are cameras");
   }
 
