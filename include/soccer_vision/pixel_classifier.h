@@ -122,6 +122,10 @@ class FrameClassifier {
   // Colour of a label pixel as classified (BGR; a Bayer quad's R, mean G, B), for
   // sub-pixel weighting of region edges.
   cv::Vec3b colorAt(int x, int y) const;
+  // Where the colours of label row `y` lie (labelRow of the image), for reading many
+  // colours of a row without colorAt's per-pixel checks. Throws std::invalid_argument for
+  // a row outside the label image.
+  LabelRow row(int y) const;
   // V (max channel) of a label pixel as looked up: sharpened (when enabled), then
   // adjusted by its block's gain and offset (ColorTable::adjustedV). For debugging/tests.
   int adaptedV(int x, int y) const;

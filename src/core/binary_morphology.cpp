@@ -12,6 +12,13 @@ void BitMask::reset(cv::Size size) {
   words_.assign(static_cast<std::size_t>(words_per_row_) * height_, 0);
 }
 
+void BitMask::resize(cv::Size size) {
+  width_ = size.width;
+  height_ = size.height;
+  words_per_row_ = (size.width + 63) / 64;
+  words_.resize(static_cast<std::size_t>(words_per_row_) * height_);
+}
+
 std::uint64_t BitMask::validBits(int w) const {
   const int bits = std::min(64, width_ - 64 * w);
   return bits >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << bits) - 1;
@@ -66,47 +73,67 @@ std::uint64_t combine(std::uint64_t a, std::uint64_t b) {
   return kErode ? a & b : a | b;
 }
 
-template <bool kErode>
-void columnPass(const BitMask& in, int k, int anchor, BitMask& out) {
-  const int first = -anchor, last = k - 1 - anchor;
-  const int words = in.wordsPerRow();
-  for (int y = 0; y < in.height(); ++y) {
-    std::uint64_t* o = out.row(y);
-    std::copy(in.row(y), in.row(y) + words, o);
-    for (int d = std::max(first, -y); d <= std::min(last, in.height() - 1 - y); ++d) {
-      if (d == 0) continue;
-      const std::uint64_t* r = in.row(y + d);
-      for (int w = 0; w < words; ++w) o[w] = combine<kErode>(o[w], r[w]);
-    }
-  }
+// Bit x of the result is bit x + d of the row (d > 0) or x - |d| (d < 0): `p` points at
+// the word, with its neighbours at p[-1] and p[1].
+template <int D>
+std::uint64_t shifted(const std::uint64_t* p) {
+  if constexpr (D > 0) return (p[0] >> D) | (p[1] << (64 - D));
+  if constexpr (D < 0) return (p[0] << -D) | (p[-1] >> (64 + D));
+  return p[0];
 }
 
-// In place, row by row: a copy of the row with an identity word on each side makes the
-// shifts across word boundaries branch-free; the bits beyond the width are set to the
-// identity for the pass and cleared after it.
+// The horizontal combination of one padded row word, window [First, Last] known at
+// compile time (the kernels of the region extractor: 2 and 3).
+template <bool kErode, int First, int Last>
+std::uint64_t rowWindow(const std::uint64_t* p) {
+  std::uint64_t acc = p[0];
+  if constexpr (First <= -2) acc = combine<kErode>(acc, shifted<-2>(p));
+  if constexpr (First <= -1) acc = combine<kErode>(acc, shifted<-1>(p));
+  if constexpr (Last >= 1) acc = combine<kErode>(acc, shifted<1>(p));
+  if constexpr (Last >= 2) acc = combine<kErode>(acc, shifted<2>(p));
+  return acc;
+}
+
 template <bool kErode>
-void rowPass(BitMask& mask, int k, int anchor, std::vector<std::uint64_t>& padded) {
-  const int first = -anchor, last = k - 1 - anchor;
-  const int words = mask.wordsPerRow();
+std::uint64_t rowWindow(const std::uint64_t* p, int first, int last) {
+  std::uint64_t acc = p[0];
+  for (int d = first; d <= last; ++d) {
+    if (d > 0) acc = combine<kErode>(acc, (p[0] >> d) | (p[1] << (64 - d)));
+    if (d < 0) acc = combine<kErode>(acc, (p[0] << -d) | (p[-1] >> (64 + d)));
+  }
+  return acc;
+}
+
+// One pass, row by row: the column combination of the rows y + d into a padded row (an
+// identity word on each side makes the shifts across word boundaries branch-free; the
+// bits beyond the width are the identity during the pass), then the row combination
+// into the output. Every output word is written.
+template <bool kErode, int First, int Last>
+void squareRows(const BitMask& in, int first, int last, BitMask& out, std::vector<std::uint64_t>& padded) {
+  const int words = in.wordsPerRow(), height = in.height();
   const std::uint64_t identity = kErode ? ~std::uint64_t(0) : 0;
-  const std::uint64_t tail = mask.validBits(words - 1);
+  const std::uint64_t tail = in.validBits(words - 1);
   padded.resize(static_cast<std::size_t>(words) + 2);
-  for (int y = 0; y < mask.height(); ++y) {
-    std::uint64_t* row = mask.row(y);
-    padded[0] = identity;
-    std::copy(row, row + words, padded.begin() + 1);
-    padded[static_cast<std::size_t>(words)] |= identity & ~tail;
-    padded[static_cast<std::size_t>(words) + 1] = identity;
-    for (int w = 0; w < words; ++w) {
-      const std::uint64_t* p = padded.data() + w + 1;
-      std::uint64_t acc = p[0];
-      for (int d = first; d <= last; ++d) {
-        if (d > 0) acc = combine<kErode>(acc, (p[0] >> d) | (p[1] << (64 - d)));
-        if (d < 0) acc = combine<kErode>(acc, (p[0] << -d) | (p[-1] >> (64 + d)));
-      }
-      row[w] = acc;
+  std::uint64_t* column = padded.data() + 1;
+  column[-1] = identity;
+  column[words] = identity;
+  for (int y = 0; y < height; ++y) {
+    std::copy(in.row(y), in.row(y) + words, column);
+    for (int d = std::max(first, -y); d <= std::min(last, height - 1 - y); ++d) {
+      if (d == 0) continue;
+      const std::uint64_t* r = in.row(y + d);
+      for (int w = 0; w < words; ++w) column[w] = combine<kErode>(column[w], r[w]);
     }
-    row[words - 1] &= tail;
+    column[words - 1] |= identity & ~tail;
+    std::uint64_t* o = out.row(y);
+    for (int w = 0; w < words; ++w) {
+      if constexpr (First <= Last) {
+        o[w] = rowWindow<kErode, First, Last>(column + w);
+      } else {
+        o[w] = rowWindow<kErode>(column + w, first, last);
+      }
+    }
+    o[words - 1] &= tail;
   }
 }
 
@@ -114,10 +141,15 @@ template <bool kErode>
 void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch) {
   if (anchor < 0) anchor = k / 2;
   CV_Assert(k >= 1 && k < 64 && anchor < k && &in != &out);
-  out.reset(cv::Size(in.width(), in.height()));
+  out.resize(cv::Size(in.width(), in.height()));
   if (in.width() == 0 || in.height() == 0) return;
-  columnPass<kErode>(in, k, anchor, out);
-  rowPass<kErode>(out, k, anchor, scratch.padded_row);
+  const int first = -anchor, last = k - 1 - anchor;
+  auto& padded = scratch.padded_row;
+  if (first == -1 && last == 1) return squareRows<kErode, -1, 1>(in, first, last, out, padded);
+  if (first == -1 && last == 0) return squareRows<kErode, -1, 0>(in, first, last, out, padded);
+  if (first == 0 && last == 1) return squareRows<kErode, 0, 1>(in, first, last, out, padded);
+  if (first == -2 && last == 2) return squareRows<kErode, -2, 2>(in, first, last, out, padded);
+  squareRows<kErode, 1, 0>(in, first, last, out, padded);  // any other window, at run time
 }
 
 }  // namespace

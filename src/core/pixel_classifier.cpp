@@ -331,6 +331,11 @@ cv::Vec3b FrameClassifier::colorAt(int x, int y) const {
   return {row.b[x * row.step], static_cast<std::uint8_t>(greenAt(row, x)), row.r[x * row.step]};
 }
 
+LabelRow FrameClassifier::row(int y) const {
+  checkRect({0, y, label_size_.width, 1});
+  return labelRow(image_, layout_, y);
+}
+
 namespace {
 
 // The block adjustments of one label row.

@@ -45,7 +45,7 @@ double msSince(Clock::time_point& since) {
 // The hit check packs a (2k - 1)-wide row of a patch into 64 bits.
 constexpr int kMaxKernel = 31;
 constexpr int kRing = 2;         // px around a region sampled for coverage
-constexpr int kPad = kRing + 1;  // margin of the region's membership buffer
+constexpr int kPad = 2 * kRing;  // margin of the region's membership buffer: the ring's ring
 
 enum Side : unsigned { kLeft = 1, kTop = 2, kRight = 4, kBottom = 8 };
 
@@ -60,6 +60,8 @@ struct Area {
 // Scratch buffers, reused from frame to frame (an extractor is used by one thread).
 struct RegionScratch {
   std::vector<cv::Point> hits;
+  std::vector<cv::Rect> scanned;                // the search windows in the image
+  std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
   cv::Mat patch;
   std::vector<std::uint8_t> tiles;
@@ -68,12 +70,13 @@ struct RegionScratch {
   cv::Mat labels;
   BitMask mask;
   MorphologyScratch morphology;
-  RunLengthComponents components;
+  std::array<RunLengthComponents, kNumColorClasses> components;  // of the area being done, per class
+  std::vector<std::pair<int, int>> found;  // (class, component) of its regions within the area filter
   std::vector<std::uint8_t> seeded;
   std::vector<std::uint8_t> inside, near, near_in_row;  // membership, within kRing of it
   struct Sample {
     int x, y;  // relative to the region's bbox
-    cv::Vec3b color;
+    cv::Vec3d color;  // B, G, R
     bool in_region;
   };
   std::vector<Sample> samples;
@@ -89,6 +92,70 @@ int multiplesIn(int begin, int end, int step) {
   const int first = (begin + step - 1) / step;
   const int last = (end - 1) / step;
   return std::max(0, last - first + 1);
+}
+
+// Sorted, overlapping or adjacent [begin, end) spans merged.
+void mergeSpans(std::vector<std::pair<int, int>>& spans) {
+  std::sort(spans.begin(), spans.end());
+  std::size_t merged = 0;
+  for (std::size_t i = 1; i < spans.size(); ++i) {
+    if (spans[i].first <= spans[merged].second) {
+      spans[merged].second = std::max(spans[merged].second, spans[i].second);
+    } else {
+      spans[++merged] = spans[i];
+    }
+  }
+  if (!spans.empty()) spans.resize(merged + 1);
+}
+
+// The hits of the stride grid in the union of `rects` (inside the image), each point
+// looked up once however the rects overlap (search windows around robots close to each
+// other do), plus the last column and row of the image where rects reach them and the
+// grid misses them. Returns the number of points looked up.
+std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect>& rects, int stride,
+                        const cv::Rect& image, ClassMask classes, Scratch& s) {
+  if (rects.empty()) return 0;
+  std::uint32_t looked_up = 0;
+  auto& spans = s.spans;
+  int y_begin = image.height, y_end = 0;
+  for (const cv::Rect& r : rects) y_begin = std::min(y_begin, r.y), y_end = std::max(y_end, r.br().y);
+  for (int y = (y_begin + stride - 1) / stride * stride; y < y_end; y += stride) {
+    spans.clear();
+    for (const cv::Rect& r : rects) {
+      if (r.y <= y && y < r.br().y) spans.emplace_back(r.x, r.br().x);
+    }
+    mergeSpans(spans);
+    for (const auto& [x0, x1] : spans) {
+      frame.scanGrid(cv::Rect(x0, y, x1 - x0, 1), stride, classes, s.hits);
+      looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride));
+    }
+  }
+  bool corner_scanned = false;  // the last column's scan holds (width - 1, height - 1)
+  if ((image.width - 1) % stride != 0) {
+    spans.clear();
+    for (const cv::Rect& r : rects) {
+      if (r.br().x == image.width) spans.emplace_back(r.y, r.br().y);
+    }
+    mergeSpans(spans);
+    for (const auto& [y0, y1] : spans) {
+      frame.scanGrid(cv::Rect(image.width - 1, y0, 1, y1 - y0), 1, classes, s.hits);
+      looked_up += static_cast<std::uint32_t>(y1 - y0);
+      corner_scanned = corner_scanned || y1 == image.height;
+    }
+  }
+  if ((image.height - 1) % stride != 0) {
+    spans.clear();
+    for (const cv::Rect& r : rects) {
+      if (r.br().y == image.height) spans.emplace_back(r.x, r.br().x - (corner_scanned && r.br().x == image.width ? 1 : 0));
+    }
+    mergeSpans(spans);
+    for (const auto& [x0, x1] : spans) {
+      if (x1 <= x0) continue;
+      frame.scanGrid(cv::Rect(x0, image.height - 1, x1 - x0, 1), 1, classes, s.hits);
+      looked_up += static_cast<std::uint32_t>(x1 - x0);
+    }
+  }
+  return looked_up;
 }
 
 // True when grid point `g` lies in some erosion window of the k x k opening that is
@@ -262,65 +329,87 @@ bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
                      Region& r) {
   const int stride = bbox.width + 2 * kPad;
   auto at = [&](int x, int y) { return static_cast<std::size_t>(y + kPad) * stride + (x + kPad); };
-  // Ring: within kRing px (chessboard) of the region, not in it; separable dilation.
+  // Ring: within kRing px (chessboard) of the region, not in it; separable dilation. The
+  // kPad = 2 kRing margin is zero, so both passes read +-kRing around every pixel of the
+  // bbox grown by kRing without bounds checks (straight loops the compiler vectorises).
   s.near.assign(s.inside.size(), 0);
   s.near_in_row.assign(s.inside.size(), 0);
-  // Members lie inside the bbox only, so each pass reads the bbox's columns / rows alone
-  // (reading the whole +-kRing would run kRing - 1 px past the kPad margin).
-  for (int y = 0; y < bbox.height; ++y) {
+  const std::uint8_t* inside = s.inside.data();
+  for (int y = 0; y < bbox.height; ++y) {  // members lie in the bbox's rows only
+    const std::uint8_t* in = inside + at(0, y);
+    std::uint8_t* out = s.near_in_row.data() + at(0, y);
     for (int x = -kRing; x < bbox.width + kRing; ++x) {
       std::uint8_t v = 0;
-      for (int d = std::max(-kRing, -x); d <= std::min(kRing, bbox.width - 1 - x); ++d) v |= s.inside[at(x + d, y)];
-      s.near_in_row[at(x, y)] = v;
+      for (int d = -kRing; d <= kRing; ++d) v |= in[x + d];
+      out[x] = v;
     }
   }
   for (int y = -kRing; y < bbox.height + kRing; ++y) {
+    const std::uint8_t* in = s.near_in_row.data() + at(0, y);
+    std::uint8_t* out = s.near.data() + at(0, y);
     for (int x = -kRing; x < bbox.width + kRing; ++x) {
       std::uint8_t v = 0;
-      for (int d = std::max(-kRing, -y); d <= std::min(kRing, bbox.height - 1 - y); ++d) v |= s.near_in_row[at(x, y + d)];
-      s.near[at(x, y)] = v;
+      for (int d = -kRing; d <= kRing; ++d) v |= in[x + static_cast<std::ptrdiff_t>(d) * stride];
+      out[x] = v;
     }
   }
-  cv::Vec3d interior_sum(0, 0, 0), region_sum(0, 0, 0);
-  int interior_n = 0, region_n = 0;
+  // Samples in raster order (the sums below depend on the order in their last bits). The
+  // colour sums are of integers, exact in any order.
+  cv::Vec3d interior_sum(0, 0, 0), region_sum(0, 0, 0), ring_sum(0, 0, 0);
+  int interior_n = 0, region_n = 0, ring_n = 0;
   s.samples.clear();
-  for (int y = -kRing; y < bbox.height + kRing; ++y) {
-    for (int x = -kRing; x < bbox.width + kRing; ++x) {
-      const int ix = bbox.x + x, iy = bbox.y + y;
-      if (!s.near[at(x, y)] || ix < 0 || iy < 0 || ix >= image.width || iy >= image.height) continue;
-      const bool member = s.inside[at(x, y)] != 0;
-      const cv::Vec3b color = frame.colorAt(ix, iy);
-      s.samples.push_back({x, y, color, member});
-      if (member) {
-        region_sum += cv::Vec3d(color);
+  const int x_begin = std::max(-kRing, -bbox.x), x_end = std::min(bbox.width + kRing, image.width - bbox.x);
+  const int y_begin = std::max(-kRing, -bbox.y), y_end = std::min(bbox.height + kRing, image.height - bbox.y);
+  for (int y = y_begin; y < y_end; ++y) {
+    const LabelRow row = frame.row(bbox.y + y);
+    const std::uint8_t* near = s.near.data() + at(0, y);
+    const std::uint8_t* member = inside + at(0, y);
+    for (int x = x_begin; x < x_end; ++x) {
+      if (!near[x]) continue;
+      const int i = (bbox.x + x) * row.step;
+      const int b = row.b[i], g = (row.g1[i] + row.g2[i] + 1) >> 1, red = row.r[i];
+      const cv::Vec3d color(b, g, red);
+      const bool in_region = member[x] != 0;
+      s.samples.push_back({x, y, color, in_region});
+      if (in_region) {
+        region_sum += color;
         ++region_n;
-        if (s.inside[at(x - 1, y)] && s.inside[at(x + 1, y)] && s.inside[at(x, y - 1)] && s.inside[at(x, y + 1)]) {
-          interior_sum += cv::Vec3d(color);
+        if (member[x - 1] && member[x + 1] && member[x - stride] && member[x + stride]) {
+          interior_sum += color;
           ++interior_n;
         }
+      } else {
+        ring_sum += color;
+        ++ring_n;
       }
     }
   }
   const cv::Vec3d inner = interior_n > 0 ? interior_sum / interior_n : region_sum / region_n;
-  cv::Vec3d background(0, 0, 0), contrast(0, 0, 0);
-  double contrast2 = 1;
-  auto coverage = [&](const cv::Vec3b& color) {
-    return std::clamp((cv::Vec3d(color) - background).dot(contrast) / contrast2, 0.0, 1.0);
+  // Pass 1: the plain mean of the ring; pass 2: weighted by 1 - coverage.
+  if (ring_n == 0) return false;
+  cv::Vec3d background = ring_sum / static_cast<double>(ring_n);
+  cv::Vec3d contrast = inner - background;
+  double contrast2 = contrast.dot(contrast);
+  if (contrast2 < 1.0) return false;  // less than one grey level apart: coverage is noise
+  auto coverage = [&](const cv::Vec3d& color) {
+    double projection = 0;  // (color - background) . contrast, summed in cv::Vec's order
+    for (int c = 0; c < 3; ++c) projection += (color[c] - background[c]) * contrast[c];
+    return std::clamp(projection / contrast2, 0.0, 1.0);
   };
-  for (int pass = 0; pass < 2; ++pass) {  // plain mean, then weighted by 1 - coverage
+  {
     cv::Vec3d sum(0, 0, 0);
     double weight = 0;
     for (const Scratch::Sample& p : s.samples) {
       if (p.in_region) continue;
-      const double w = pass == 0 ? 1.0 : 1.0 - coverage(p.color);
-      sum += w * cv::Vec3d(p.color);
+      const double w = 1.0 - coverage(p.color);
+      for (int c = 0; c < 3; ++c) sum[c] += w * p.color[c];
       weight += w;
     }
     if (weight <= 0) return false;
     background = sum / weight;
     contrast = inner - background;
     contrast2 = contrast.dot(contrast);
-    if (contrast2 < 1.0) return false;  // less than one grey level apart: coverage is noise
+    if (contrast2 < 1.0) return false;
   }
   MomentSums sums;
   for (const Scratch::Sample& p : s.samples) {
@@ -356,35 +445,16 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   const int tile = params_.tile_size;
   Clock::time_point since = Clock::now();
 
-  // 1. Scan. Squares cut by the right/bottom image border may miss the grid: their
-  // in-image part always holds the last column/row, so those are scanned too.
+  // 1. Scan the union of the windows, each grid point once. Squares cut by the
+  // right/bottom image border may miss the grid: their in-image part always holds the last
+  // column/row, so those are scanned too (at stride 1).
   s.hits.clear();
-  std::vector<cv::Rect> scanned;
-  if (windows.empty()) scanned.push_back(image);
+  s.scanned.clear();
+  if (windows.empty()) s.scanned.push_back(image);
   for (const cv::Rect& w : windows) {
-    if (!(w & image).empty()) scanned.push_back(w & image);
+    if (!(w & image).empty()) s.scanned.push_back(w & image);
   }
-  for (const cv::Rect& r : scanned) {
-    frame.scanGrid(r, stride, params_.classes, s.hits);
-    stats.grid_points += static_cast<std::uint32_t>(multiplesIn(r.x, r.br().x, stride)) *
-                         static_cast<std::uint32_t>(multiplesIn(r.y, r.br().y, stride));
-    const bool last_column = r.br().x == image.width && (image.width - 1) % stride != 0;
-    const bool last_row = r.br().y == image.height && (image.height - 1) % stride != 0;
-    if (last_column) {
-      frame.scanGrid(cv::Rect(image.width - 1, r.y, 1, r.height), 1, params_.classes, s.hits);
-      stats.grid_points += static_cast<std::uint32_t>(r.height);
-    }
-    if (last_row) {
-      const int width = r.width - (last_column ? 1 : 0);
-      frame.scanGrid(cv::Rect(r.x, image.height - 1, width, 1), 1, params_.classes, s.hits);
-      stats.grid_points += static_cast<std::uint32_t>(width);
-    }
-  }
-  if (scanned.size() > 1) {  // overlapping windows scan points twice
-    auto before = [](const cv::Point& a, const cv::Point& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; };
-    std::sort(s.hits.begin(), s.hits.end(), before);
-    s.hits.erase(std::unique(s.hits.begin(), s.hits.end()), s.hits.end());
-  }
+  stats.grid_points += scanUnion(frame, s.scanned, stride, image, params_.classes, s);
   if (morphology) {
     std::size_t kept = 0;
     for (const cv::Point& g : s.hits) {
@@ -421,7 +491,10 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     }
     stats.classify_ms += msSince(since);
 
+    // Components of every class present first; moments only once the area is final
+    // (no region touches an inner side), so that an area that grows wastes none.
     unsigned grow = 0;
+    s.found.clear();
     const cv::Rect core_in_outer(core.tl() - outer.tl(), core.size());
     for (int c = 0; c < kNumColorClasses; ++c) {
       if (!(present & classBit(static_cast<ColorClass>(c)))) continue;
@@ -429,55 +502,58 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
       if (morphology) openThenClose(s.mask, k, s.morphology);
       stats.morphology_ms += msSince(since);
 
-      s.components.compute(s.mask, core_in_outer);
-      s.seeded.assign(s.components.components().size(), 0);
+      RunLengthComponents& components = s.components[static_cast<std::size_t>(c)];
+      components.compute(s.mask, core_in_outer);
+      s.seeded.assign(components.components().size(), 0);
       for (const auto& [seeds, color] : s.area_hits) {
         if (color != c) continue;
         for (int y = seeds.y; y < seeds.br().y; ++y) {
           for (int x = seeds.x; x < seeds.br().x; ++x) {
-            const int component = s.components.componentAt(x - core.x, y - core.y);
+            const int component = components.componentAt(x - core.x, y - core.y);
             if (component >= 0) s.seeded[static_cast<std::size_t>(component)] = 1;
           }
         }
       }
       for (std::size_t label = 0; label < s.seeded.size(); ++label) {
         if (!s.seeded[label]) continue;
-        const ComponentStats& component = s.components.components()[label];
+        const ComponentStats& component = components.components()[label];
         const int pixels = static_cast<int>(component.area);
-        const cv::Rect box = component.bbox + core.tl();
-        const unsigned touched = innerSidesTouched(box, core, image);
+        const unsigned touched = innerSidesTouched(component.bbox + core.tl(), core, image);
         // A region already larger than max_area is dropped whatever lies outside.
         if (touched && pixels <= params_.max_area) grow |= touched;
-        if (grow || pixels < params_.min_area || pixels > params_.max_area) continue;
-
-        Region r;
-        r.color = static_cast<ColorClass>(c);
-        r.area = component.area;
-        r.bbox = box;
-        bool weighted = false;
-        if (params_.coverage_weighted_moments) {
-          // Membership of the bbox grown by kPad (outside it: not in the region).
-          const int stride_in = box.width + 2 * kPad;
-          s.inside.assign(static_cast<std::size_t>(stride_in) * (box.height + 2 * kPad), 0);
-          const int label_index = static_cast<int>(label);
-          for (const PixelRun* run = s.components.runsBegin(label_index); run != s.components.runsEnd(label_index); ++run) {
-            const std::size_t at = static_cast<std::size_t>(run->y - component.bbox.y + kPad) * stride_in + kPad;
-            std::fill(s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_begin - component.bbox.x),
-                      s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_end - component.bbox.x), 1);
-          }
-          weighted = coverageMoments(frame, box, image, s, r);
-        }
-        if (!weighted) MomentSums(component).writeTo(r, core.tl());
-        area.regions.push_back(r);
+        if (pixels >= params_.min_area && pixels <= params_.max_area) s.found.push_back({c, static_cast<int>(label)});
       }
       stats.regions_ms += msSince(since);
     }
-    if (grow == 0) {
-      area.done = true;
+    if (grow != 0) {
+      area.core = grownOnSides(core, grow, tile, image);
+      mergeOverlapping(s.areas);
       continue;
     }
-    area.core = grownOnSides(core, grow, tile, image);
-    mergeOverlapping(s.areas);
+    for (const auto& [c, label] : s.found) {
+      const RunLengthComponents& components = s.components[static_cast<std::size_t>(c)];
+      const ComponentStats& component = components.components()[static_cast<std::size_t>(label)];
+      Region r;
+      r.color = static_cast<ColorClass>(c);
+      r.area = component.area;
+      r.bbox = component.bbox + core.tl();
+      bool weighted = false;
+      if (params_.coverage_weighted_moments) {
+        // Membership of the bbox grown by kPad (outside it: not in the region).
+        const int stride_in = r.bbox.width + 2 * kPad;
+        s.inside.assign(static_cast<std::size_t>(stride_in) * (r.bbox.height + 2 * kPad), 0);
+        for (const PixelRun* run = components.runsBegin(label); run != components.runsEnd(label); ++run) {
+          const std::size_t at = static_cast<std::size_t>(run->y - component.bbox.y + kPad) * stride_in + kPad;
+          std::fill(s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_begin - component.bbox.x),
+                    s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_end - component.bbox.x), 1);
+        }
+        weighted = coverageMoments(frame, r.bbox, image, s, r);
+      }
+      if (!weighted) MomentSums(component).writeTo(r, core.tl());
+      area.regions.push_back(r);
+    }
+    area.done = true;
+    stats.regions_ms += msSince(since);
   }
 
   // 4. Collect; the cap keeps the largest regions of each class.
