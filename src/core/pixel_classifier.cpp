@@ -357,15 +357,26 @@ void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjust
   }
 }
 
-// The same, other classes than `keep` written as None.
+// The colour cube of a pixel from unsigned channels: ClassLookup::cubeIndex without
+// sign extensions, for the hot loops below.
+inline std::size_t cubeOf(unsigned b, unsigned g, unsigned r) {
+  constexpr unsigned low = (1u << ClassLookup::kCubeShift) - 1;
+  return (static_cast<std::size_t>(b & ~low) << (2 * ClassLookup::kCubeBits - ClassLookup::kCubeShift)) |
+         (static_cast<std::size_t>(g & ~low) << (ClassLookup::kCubeBits - ClassLookup::kCubeShift)) |
+         static_cast<std::size_t>(r >> ClassLookup::kCubeShift);
+}
+
+// The same, other classes than `keep` written as None. The tables' pointers live in
+// locals: stores through `out` could alias them as far as the compiler knows.
 template <int Step>
 void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0,
                         int x1, ClassMask keep, std::uint8_t* out) {
+  const std::uint16_t* cube_classes = lookup.cube_classes.data();
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; ++x) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
     std::uint8_t label = 0;
-    if (lookup.mayBeIn(b, g, r, keep)) {
+    if (cube_classes[cubeOf(unsigned(b), unsigned(g), unsigned(r))] & keep) {
       label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
       if (!(keep & (ClassMask(1) << label))) label = 0;
     }
@@ -373,15 +384,21 @@ void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const Ro
   }
 }
 
+// Grid points of a row: most are rejected by their cube, so that path is kept short
+// (pointers in registers, one index step per point).
 template <int Step>
 void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0, int x1,
              int stride, ClassMask classes, std::vector<cv::Point>& hits) {
-  const Pixels<Step> px(row);
-  for (int x = x0; x < x1; x += stride) {
-    const int b = px.b(x), g = px.g(x), r = px.r(x);
-    if (!lookup.mayBeIn(b, g, r, classes)) continue;
-    const int label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
-    if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
+  const std::uint16_t* cube_classes = lookup.cube_classes.data();
+  const std::uint8_t *pb = row.b, *pg1 = row.g1, *pg2 = row.g2, *pr = row.r;
+  const std::size_t step = static_cast<std::size_t>(stride) * Step;
+  std::size_t i = static_cast<std::size_t>(x0) * Step;
+  for (int x = x0; x < x1; x += stride, i += step) {
+    const unsigned b = pb[i], r = pr[i];
+    const unsigned g = Step == 3 ? pg1[i] : (pg1[i] + pg2[i] + 1u) >> 1;  // bgr8/rgb8: one green
+    if (!(cube_classes[cubeOf(b, g, r)] & classes)) continue;
+    const int label = lookup.classAt(int(b), int(g), int(r), adjusted(x, maxOf(int(b), int(g), int(r))));
+    if (classes & (ClassMask(1) << label)) hits.push_back(cv::Point(x, y));
   }
 }
 

@@ -67,7 +67,8 @@ struct RegionScratch {
   std::vector<std::uint8_t> tiles;
   std::vector<int> tile_stack;
   std::vector<Area> areas;
-  cv::Mat labels;
+  cv::Mat labels;                  // label image of the frame, valid inside `classified` only
+  std::vector<cv::Rect> classified;  // rectangles of `labels` classified in this frame
   BitMask mask;
   MorphologyScratch morphology;
   std::array<RunLengthComponents, kNumColorClasses> components;  // of the area being done, per class
@@ -80,6 +81,7 @@ struct RegionScratch {
     bool in_region;
   };
   std::vector<Sample> samples;
+  std::vector<double> alphas;  // coverage per sample
 };
 
 namespace {
@@ -288,6 +290,37 @@ void tileAreas(const std::vector<cv::Point>& hits, int tile, const cv::Rect& ima
   mergeOverlapping(s.areas);
 }
 
+// Classifies the part of `r` that no rectangle of s.classified[from..] covers into
+// s.labels: r minus the first rectangle it meets is at most four rectangles (above,
+// below, left, right of their intersection), each done the same way with the rest.
+void classifyUncovered(const FrameClassifier& frame, const cv::Rect& r, std::size_t from, ClassMask classes,
+                       Scratch& s, std::uint32_t& classified) {
+  for (std::size_t i = from; i < s.classified.size(); ++i) {
+    const cv::Rect done = r & s.classified[i];
+    if (done.empty()) continue;
+    const cv::Rect pieces[] = {{r.x, r.y, r.width, done.y - r.y},
+                               {r.x, done.br().y, r.width, r.br().y - done.br().y},
+                               {r.x, done.y, done.x - r.x, done.height},
+                               {done.br().x, done.y, r.br().x - done.br().x, done.height}};
+    for (const cv::Rect& piece : pieces) {
+      if (!piece.empty()) classifyUncovered(frame, piece, i + 1, classes, s, classified);
+    }
+    return;
+  }
+  cv::Mat out = s.labels(r);
+  frame.classify(r, out, classes);
+  classified += static_cast<std::uint32_t>(r.area());
+}
+
+// Labels of `rect`, a view into the frame's label image: an area that grows (or merges)
+// is classified again only where it is new.
+cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, ClassMask classes, Scratch& s,
+                         std::uint32_t& classified) {
+  classifyUncovered(frame, rect, 0, classes, s, classified);
+  s.classified.push_back(rect);
+  return s.labels(rect);
+}
+
 // Moments from weighted sums of x, y (relative to `origin`), x², xy, y².
 struct MomentSums {
   double w = 0, x = 0, y = 0, xx = 0, xy = 0, yy = 0;
@@ -394,7 +427,7 @@ bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
   auto coverage = [&](const cv::Vec3d& color) {
     double projection = 0;  // (color - background) . contrast, summed in cv::Vec's order
     for (int c = 0; c < 3; ++c) projection += (color[c] - background[c]) * contrast[c];
-    return std::clamp(projection / contrast2, 0.0, 1.0);
+    return std::min(std::max(projection / contrast2, 0.0), 1.0);  // = std::clamp, without branches
   };
   {
     cv::Vec3d sum(0, 0, 0);
@@ -411,10 +444,13 @@ bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
     contrast2 = contrast.dot(contrast);
     if (contrast2 < 1.0) return false;
   }
+  // Coverage of every sample first (independent divisions, no branch waiting on them),
+  // then the sums of the covered ones.
+  s.alphas.resize(s.samples.size());
+  for (std::size_t i = 0; i < s.samples.size(); ++i) s.alphas[i] = coverage(s.samples[i].color);
   MomentSums sums;
-  for (const Scratch::Sample& p : s.samples) {
-    const double alpha = coverage(p.color);
-    if (alpha > 0) sums.add(p.x, p.y, alpha);
+  for (std::size_t i = 0; i < s.samples.size(); ++i) {
+    if (s.alphas[i] > 0) sums.add(s.samples[i].x, s.samples[i].y, s.alphas[i]);
   }
   if (sums.w <= 0) return false;
   sums.writeTo(r, bbox.tl());
@@ -450,6 +486,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   // column/row, so those are scanned too (at stride 1).
   s.hits.clear();
   s.scanned.clear();
+  s.classified.clear();
+  if (s.labels.size() != image.size() || s.labels.type() != CV_8UC1) s.labels.create(image.size(), CV_8UC1);
   if (windows.empty()) s.scanned.push_back(image);
   for (const cv::Rect& w : windows) {
     if (!(w & image).empty()) s.scanned.push_back(w & image);
@@ -477,15 +515,14 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     area.regions.clear();
     const cv::Rect core = area.core;
     const cv::Rect outer = grownBy(core, margin, image);
-    frame.classify(outer, s.labels, params_.classes);
-    stats.classified_pixels += static_cast<std::uint32_t>(outer.area());
+    const cv::Mat labels = classifiedLabels(frame, outer, params_.classes, s, stats.classified_pixels);
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();
     ClassMask present = 0;
     for (const cv::Point& g : s.hits) {
       const cv::Rect seeds = seedBox(g, image) & core;
       if (seeds.empty()) continue;
-      const std::uint8_t c = s.labels.at<std::uint8_t>(g - outer.tl());
+      const std::uint8_t c = labels.at<std::uint8_t>(g - outer.tl());
       s.area_hits.push_back({seeds, c});
       present |= classBit(static_cast<ColorClass>(c));
     }
@@ -498,7 +535,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     const cv::Rect core_in_outer(core.tl() - outer.tl(), core.size());
     for (int c = 0; c < kNumColorClasses; ++c) {
       if (!(present & classBit(static_cast<ColorClass>(c)))) continue;
-      s.mask.setFromLabels(s.labels, static_cast<std::uint8_t>(c));
+      s.mask.setFromLabels(labels, static_cast<std::uint8_t>(c));
       if (morphology) openThenClose(s.mask, k, s.morphology);
       stats.morphology_ms += msSince(since);
 
