@@ -114,6 +114,9 @@ class FrameClassifier {
   // the marker classes); a pixel whose colour cube holds no kept class is then settled by
   // one lookup instead of three. All classes by default.
   void classify(const cv::Rect& rect, cv::Mat& out, ClassMask keep = ~ClassMask(0)) const;
+  // The label of one label pixel, as classify would write it (for tests of a few pixels
+  // around a point). Throws std::invalid_argument outside the label image.
+  std::uint8_t classifyPixel(int x, int y, ClassMask keep = ~ClassMask(0)) const;
   // Label pixels (x, y) in `rect` with x % stride == 0 and y % stride == 0 whose class is
   // in `classes`, appended to `hits` row by row. Most pixels are rejected by a 4x4x4
   // colour-cube test before the full lookup. Throws std::invalid_argument for stride < 1

@@ -331,6 +331,19 @@ cv::Vec3b FrameClassifier::colorAt(int x, int y) const {
   return {row.b[x * row.step], static_cast<std::uint8_t>(greenAt(row, x)), row.r[x * row.step]};
 }
 
+std::uint8_t FrameClassifier::classifyPixel(int x, int y, ClassMask keep) const {
+  checkRect({x, y, 1, 1});
+  const ClassLookup& lookup = *classifier_.lookup_;
+  const LabelRow row = labelRow(image_, layout_, y);
+  const int b = row.b[x * row.step], g = greenAt(row, x), r = row.r[x * row.step];
+  // A cube holding none of `keep` gives None, as classify writes it (with every class
+  // kept, every cube passes: its mask holds at least None).
+  if (!lookup.mayBeIn(b, g, r, keep)) return 0;
+  const int v = sharpen_terms_.empty() ? maxOf(b, g, r) : sharpenedV(x, y);
+  const std::uint8_t label = lookup.classAt(b, g, r, adjustedVAt(x, y, v));
+  return keep & (ClassMask(1) << label) ? label : 0;
+}
+
 LabelRow FrameClassifier::row(int y) const {
   checkRect({0, y, label_size_.width, 1});
   return labelRow(image_, layout_, y);

@@ -42,7 +42,7 @@ double msSince(Clock::time_point& since) {
   return ms;
 }
 
-// The hit check packs a (2k - 1)-wide row of a patch into 64 bits.
+// Largest morphology kernel (binary_morphology.h takes up to 63).
 constexpr int kMaxKernel = 31;
 constexpr int kRing = 2;         // px around a region sampled for coverage
 constexpr int kPad = 2 * kRing;  // margin of the region's membership buffer: the ring's ring
@@ -63,7 +63,7 @@ struct RegionScratch {
   std::vector<cv::Rect> scanned;                // the search windows in the image
   std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
-  cv::Mat patch;
+  std::vector<std::uint8_t> patch;  // labels around a hit, classified lazily
   std::vector<std::uint8_t> tiles;
   std::vector<int> tile_stack;
   std::vector<Area> areas;
@@ -163,45 +163,45 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
 // True when grid point `g` lies in some erosion window of the k x k opening that is
 // entirely of its class: exactly the points that survive the opening. As in
 // cv::morphologyEx, the outside of the image counts as the class for erosion, and only
-// windows of in-image anchor pixels (anchor k/2) exist. Adds the pixels it classified.
+// windows of in-image anchor pixels (anchor k/2) exist. Pixels are classified lazily, the
+// window centred on g first: inside a marker that one passes after k² lookups, so most
+// hits cost 9 pixels, not the (2k - 1)² of the patch. Adds the pixels it classified.
 bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
-                     cv::Mat& patch, std::uint32_t& classified) {
-  const int n = 2 * k - 1;  // every window holding g lies in g ± (k - 1)
-  const cv::Rect wanted(g.x - (k - 1), g.y - (k - 1), n, n);
-  const cv::Rect inside = wanted & image;
-  frame.classify(inside, patch, classes);
-  classified += static_cast<std::uint32_t>(inside.area());
-  const std::uint8_t color = patch.at<std::uint8_t>(g.y - inside.y, g.x - inside.x);
+                     std::vector<std::uint8_t>& memo, std::uint32_t& classified) {
+  constexpr std::uint8_t kUnknown = 0xFF;
+  const int n = 2 * k - 1;  // every window holding g lies in the patch g ± (k - 1)
+  const cv::Point origin(g.x - (k - 1), g.y - (k - 1));
+  memo.assign(static_cast<std::size_t>(n) * n, kUnknown);
+  const std::uint8_t color = frame.classifyPixel(g.x, g.y, classes);
+  ++classified;
+  memo[static_cast<std::size_t>(k - 1) * n + (k - 1)] = color;
+  auto of_class = [&](int px, int py) {  // patch coordinates
+    const int x = origin.x + px, y = origin.y + py;
+    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return true;
+    std::uint8_t& label = memo[static_cast<std::size_t>(py) * n + px];
+    if (label == kUnknown) {
+      label = frame.classifyPixel(x, y, classes);
+      ++classified;
+    }
+    return label == color;
+  };
   const int anchor = k / 2;
-  // Bit j of a row: the window starting at patch column j (j < k) is all of the class there.
-  std::uint64_t starts = 0;  // window starts whose anchor column is in the image
-  for (int j = 0; j < k; ++j) {
-    const int anchor_x = wanted.x + j + anchor;
-    if (anchor_x >= 0 && anchor_x < image.width) starts |= std::uint64_t(1) << j;
-  }
-  std::uint64_t runs[2 * kMaxKernel - 1];
-  for (int i = 0; i < n; ++i) {
-    const int y = wanted.y + i;
-    std::uint64_t bits = 0;  // class (or outside the image) per patch column
-    if (y < inside.y || y >= inside.br().y) {
-      bits = (std::uint64_t(1) << n) - 1;
-    } else {
-      const std::uint8_t* row = patch.ptr<std::uint8_t>(y - inside.y);
-      for (int j = 0; j < n; ++j) {
-        const int x = wanted.x + j;
-        if (x < inside.x || x >= inside.br().x || row[x - inside.x] == color) bits |= std::uint64_t(1) << j;
+  auto window_of_class = [&](int j, int i) {  // the window starting at patch column j, row i
+    const int anchor_x = origin.x + j + anchor, anchor_y = origin.y + i + anchor;
+    if (anchor_x < 0 || anchor_x >= image.width || anchor_y < 0 || anchor_y >= image.height) return false;
+    for (int py = i; py < i + k; ++py) {
+      for (int px = j; px < j + k; ++px) {
+        if (!of_class(px, py)) return false;
       }
     }
-    runs[i] = bits;
-    for (int s = 1; s < k; ++s) runs[i] &= bits >> s;
-    runs[i] &= starts;
-  }
-  for (int i0 = 0; i0 < k; ++i0) {
-    const int anchor_y = wanted.y + i0 + anchor;
-    if (anchor_y < 0 || anchor_y >= image.height) continue;
-    std::uint64_t all = runs[i0];
-    for (int i = i0 + 1; i < i0 + k && all; ++i) all &= runs[i];
-    if (all) return true;
+    return true;
+  };
+  const int centred = k - 1 - anchor;
+  if (window_of_class(centred, centred)) return true;
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) {
+      if ((i != centred || j != centred) && window_of_class(j, i)) return true;
+    }
   }
   return false;
 }
@@ -387,8 +387,8 @@ bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
     }
   }
   // Samples in raster order (the sums below depend on the order in their last bits). The
-  // colour sums are of integers, exact in any order.
-  cv::Vec3d interior_sum(0, 0, 0), region_sum(0, 0, 0), ring_sum(0, 0, 0);
+  // colour sums are of integers: exact, kept in integer registers, converted once.
+  std::array<int, 3> interior_sum{}, region_sum{}, ring_sum{};
   int interior_n = 0, region_n = 0, ring_n = 0;
   s.samples.clear();
   const int x_begin = std::max(-kRing, -bbox.x), x_end = std::min(bbox.width + kRing, image.width - bbox.x);
@@ -400,27 +400,27 @@ bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
     for (int x = x_begin; x < x_end; ++x) {
       if (!near[x]) continue;
       const int i = (bbox.x + x) * row.step;
-      const int b = row.b[i], g = (row.g1[i] + row.g2[i] + 1) >> 1, red = row.r[i];
-      const cv::Vec3d color(b, g, red);
+      const std::array<int, 3> color = {row.b[i], (row.g1[i] + row.g2[i] + 1) >> 1, row.r[i]};
       const bool in_region = member[x] != 0;
-      s.samples.push_back({x, y, color, in_region});
+      s.samples.push_back({x, y, cv::Vec3d(color[0], color[1], color[2]), in_region});
+      std::array<int, 3>& sum = in_region ? region_sum : ring_sum;
+      for (int c = 0; c < 3; ++c) sum[c] += color[c];
       if (in_region) {
-        region_sum += color;
         ++region_n;
         if (member[x - 1] && member[x + 1] && member[x - stride] && member[x + stride]) {
-          interior_sum += color;
+          for (int c = 0; c < 3; ++c) interior_sum[c] += color[c];
           ++interior_n;
         }
       } else {
-        ring_sum += color;
         ++ring_n;
       }
     }
   }
-  const cv::Vec3d inner = interior_n > 0 ? interior_sum / interior_n : region_sum / region_n;
+  auto vec = [](const std::array<int, 3>& v) { return cv::Vec3d(v[0], v[1], v[2]); };
+  const cv::Vec3d inner = interior_n > 0 ? vec(interior_sum) / interior_n : vec(region_sum) / region_n;
   // Pass 1: the plain mean of the ring; pass 2: weighted by 1 - coverage.
   if (ring_n == 0) return false;
-  cv::Vec3d background = ring_sum / static_cast<double>(ring_n);
+  cv::Vec3d background = vec(ring_sum) / static_cast<double>(ring_n);
   cv::Vec3d contrast = inner - background;
   double contrast2 = contrast.dot(contrast);
   if (contrast2 < 1.0) return false;  // less than one grey level apart: coverage is noise
