@@ -104,20 +104,29 @@ std::uint64_t rowWindow(const std::uint64_t* p, int first, int last) {
   return acc;
 }
 
+// A row window [First, Last] as a type (First > Last: known at run time only).
+template <int First, int Last>
+struct Window {
+  static constexpr int first = First, last = Last;
+};
+
 // One pass, row by row: the column combination of the rows y + d into a padded row (an
 // identity word on each side makes the shifts across word boundaries branch-free; the
 // bits beyond the width are the identity during the pass), then the row combination
 // into the output. Every output word is written.
 template <bool kErode, int First, int Last>
-void squareRows(const BitMask& in, int first, int last, BitMask& out, std::vector<std::uint64_t>& padded) {
+void squareRows(const BitMask& in, int first, int last, int row_begin, int row_end, BitMask& out,
+                std::vector<std::uint64_t>& padded) {
   const int words = in.wordsPerRow(), height = in.height();
+  for (int y = 0; y < row_begin; ++y) std::fill(out.row(y), out.row(y) + words, 0);
+  for (int y = row_end; y < height; ++y) std::fill(out.row(y), out.row(y) + words, 0);
   const std::uint64_t identity = kErode ? ~std::uint64_t(0) : 0;
   const std::uint64_t tail = in.validBits(words - 1);
   padded.resize(static_cast<std::size_t>(words) + 2);
   std::uint64_t* column = padded.data() + 1;
   column[-1] = identity;
   column[words] = identity;
-  for (int y = 0; y < height; ++y) {
+  for (int y = row_begin; y < row_end; ++y) {
     std::copy(in.row(y), in.row(y) + words, column);
     for (int d = std::max(first, -y); d <= std::min(last, height - 1 - y); ++d) {
       if (d == 0) continue;
@@ -137,19 +146,38 @@ void squareRows(const BitMask& in, int first, int last, BitMask& out, std::vecto
   }
 }
 
+// Rows outside [row_begin, row_end) are left out and written as background: the caller
+// knows that they are background in the input and in the result.
 template <bool kErode>
-void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch) {
+void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch, int row_begin = 0,
+                int row_end = -1) {
   if (anchor < 0) anchor = k / 2;
   CV_Assert(k >= 1 && k < 64 && anchor < k && &in != &out);
   out.resize(cv::Size(in.width(), in.height()));
   if (in.width() == 0 || in.height() == 0) return;
+  if (row_end < 0) row_end = in.height();
   const int first = -anchor, last = k - 1 - anchor;
   auto& padded = scratch.padded_row;
-  if (first == -1 && last == 1) return squareRows<kErode, -1, 1>(in, first, last, out, padded);
-  if (first == -1 && last == 0) return squareRows<kErode, -1, 0>(in, first, last, out, padded);
-  if (first == 0 && last == 1) return squareRows<kErode, 0, 1>(in, first, last, out, padded);
-  if (first == -2 && last == 2) return squareRows<kErode, -2, 2>(in, first, last, out, padded);
-  squareRows<kErode, 1, 0>(in, first, last, out, padded);  // any other window, at run time
+  auto rows = [&](auto window) {
+    squareRows<kErode, decltype(window)::first, decltype(window)::last>(in, first, last, row_begin, row_end, out, padded);
+  };
+  if (first == -1 && last == 1) return rows(Window<-1, 1>());
+  if (first == -1 && last == 0) return rows(Window<-1, 0>());
+  if (first == 0 && last == 1) return rows(Window<0, 1>());
+  if (first == -2 && last == 2) return rows(Window<-2, 2>());
+  rows(Window<1, 0>());  // any other window, at run time
+}
+
+// First and one past the last row holding foreground (0, 0 when there is none).
+std::pair<int, int> occupiedRows(const BitMask& mask) {
+  auto occupied = [&](int y) {
+    const std::uint64_t* row = mask.row(y);
+    return std::any_of(row, row + mask.wordsPerRow(), [](std::uint64_t w) { return w != 0; });
+  };
+  int begin = 0, end = mask.height();
+  while (begin < end && !occupied(begin)) ++begin;
+  while (end > begin && !occupied(end - 1)) --end;
+  return {begin, end};
 }
 
 }  // namespace
@@ -164,10 +192,17 @@ void dilate(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch, 
 
 void openThenClose(BitMask& mask, int k, MorphologyScratch& scratch) {
   const int a = k / 2, reflected = k - 1 - k / 2;  // equal for odd k
-  erode(mask, k, scratch.temp, scratch, a);
-  dilate(scratch.temp, k, mask, scratch, reflected);
-  dilate(mask, k, scratch.temp, scratch, a);
-  erode(scratch.temp, k, mask, scratch, reflected);
+  // Only the rows near the foreground can change: the opening keeps within the
+  // foreground's rows, the closing's dilation reaches k/2 rows beyond them, and its erosion
+  // does not grow. So k rows around them are computed and every other row is background
+  // (the mask borders keep their meaning: rows beyond them still count as in cv::erode).
+  const auto [occupied_begin, occupied_end] = occupiedRows(mask);
+  const int begin = std::max(0, occupied_begin - k), end = std::min(mask.height(), occupied_end + k);
+  if (occupied_begin >= occupied_end) return;  // all background stays so
+  squarePass<true>(mask, k, a, scratch.temp, scratch, begin, end);
+  squarePass<false>(scratch.temp, k, reflected, mask, scratch, begin, end);
+  squarePass<false>(mask, k, a, scratch.temp, scratch, begin, end);
+  squarePass<true>(scratch.temp, k, reflected, mask, scratch, begin, end);
 }
 
 }  // namespace soccer_vision

@@ -370,13 +370,11 @@ void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjust
   }
 }
 
-// The colour cube of a pixel from unsigned channels: ClassLookup::cubeIndex without
-// sign extensions, for the hot loops below.
+// The colour cube of a pixel from unsigned channels: ClassLookup::cubeIndex in 32-bit
+// arithmetic (immediate masks, no sign extensions), for the hot loops below.
 inline std::size_t cubeOf(unsigned b, unsigned g, unsigned r) {
-  constexpr unsigned low = (1u << ClassLookup::kCubeShift) - 1;
-  return (static_cast<std::size_t>(b & ~low) << (2 * ClassLookup::kCubeBits - ClassLookup::kCubeShift)) |
-         (static_cast<std::size_t>(g & ~low) << (ClassLookup::kCubeBits - ClassLookup::kCubeShift)) |
-         static_cast<std::size_t>(r >> ClassLookup::kCubeShift);
+  static_assert(ClassLookup::kCubeShift == 2 && ClassLookup::kCubeBits == 6, "cubeOf assumes 6-bit cubes");
+  return ((b << 10) & 0x3F000u) | ((g << 4) & 0xFC0u) | (r >> 2);
 }
 
 // The same, other classes than `keep` written as None. The tables' pointers live in
@@ -397,6 +395,15 @@ void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const Ro
   }
 }
 
+// A grid point whose cube may hold a wanted class: the full lookup, out of the scan's
+// loop so that the loop keeps its few values in registers.
+[[gnu::noinline]] void checkGridPoint(const ClassLookup& lookup, const RowAdjustment& adjusted, int x, int y,
+                                      unsigned b, unsigned g, unsigned r, ClassMask classes,
+                                      std::vector<cv::Point>& hits) {
+  const int label = lookup.classAt(int(b), int(g), int(r), adjusted(x, maxOf(int(b), int(g), int(r))));
+  if (classes & (ClassMask(1) << label)) hits.push_back(cv::Point(x, y));
+}
+
 // Grid points of a row: most are rejected by their cube, so that path is kept short
 // (pointers in registers, one index step per point).
 template <int Step>
@@ -409,9 +416,7 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
   for (int x = x0; x < x1; x += stride, i += step) {
     const unsigned b = pb[i], r = pr[i];
     const unsigned g = Step == 3 ? pg1[i] : (pg1[i] + pg2[i] + 1u) >> 1;  // bgr8/rgb8: one green
-    if (!(cube_classes[cubeOf(b, g, r)] & classes)) continue;
-    const int label = lookup.classAt(int(b), int(g), int(r), adjusted(x, maxOf(int(b), int(g), int(r))));
-    if (classes & (ClassMask(1) << label)) hits.push_back(cv::Point(x, y));
+    if (cube_classes[cubeOf(b, g, r)] & classes) checkGridPoint(lookup, adjusted, x, y, b, g, r, classes, hits);
   }
 }
 
