@@ -63,6 +63,7 @@ struct RegionScratch {
   std::vector<cv::Rect> scanned;                // the search windows in the image
   std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
+  cv::Mat window;                   // labels of the window centred on a hit
   std::vector<std::uint8_t> patch;  // labels around a hit, classified lazily
   std::vector<std::uint8_t> tiles;
   std::vector<int> tile_stack;
@@ -163,17 +164,28 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
 // True when grid point `g` lies in some erosion window of the k x k opening that is
 // entirely of its class: exactly the points that survive the opening. As in
 // cv::morphologyEx, the outside of the image counts as the class for erosion, and only
-// windows of in-image anchor pixels (anchor k/2) exist. Pixels are classified lazily, the
-// window centred on g first: inside a marker that one passes after k² lookups, so most
-// hits cost 9 pixels, not the (2k - 1)² of the patch. Adds the pixels it classified.
+// windows of in-image anchor pixels (anchor k/2) exist. The window centred on g first:
+// inside a marker that one passes, so most hits cost k² pixels, not the (2k - 1)² of the
+// patch; the others classify their pixels lazily. Adds the pixels it classified.
 bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
-                     std::vector<std::uint8_t>& memo, std::uint32_t& classified) {
+                     cv::Mat& window, std::vector<std::uint8_t>& memo, std::uint32_t& classified) {
+  const int anchor = k / 2;
+  // The centred window (its anchor is g: it always exists), classified in one go.
+  const cv::Rect centred_window = cv::Rect(g.x - anchor, g.y - anchor, k, k) & image;
+  frame.classify(centred_window, window, classes);
+  classified += static_cast<std::uint32_t>(centred_window.area());
+  const std::uint8_t color = window.at<std::uint8_t>(g.y - centred_window.y, g.x - centred_window.x);
+  bool all_of_class = true;
+  for (int y = 0; y < window.rows && all_of_class; ++y) {
+    const std::uint8_t* row = window.ptr<std::uint8_t>(y);
+    all_of_class = std::all_of(row, row + window.cols, [&](std::uint8_t label) { return label == color; });
+  }
+  if (all_of_class) return true;
+
   constexpr std::uint8_t kUnknown = 0xFF;
   const int n = 2 * k - 1;  // every window holding g lies in the patch g ± (k - 1)
   const cv::Point origin(g.x - (k - 1), g.y - (k - 1));
   memo.assign(static_cast<std::size_t>(n) * n, kUnknown);
-  const std::uint8_t color = frame.classifyPixel(g.x, g.y, classes);
-  ++classified;
   memo[static_cast<std::size_t>(k - 1) * n + (k - 1)] = color;
   auto of_class = [&](int px, int py) {  // patch coordinates
     const int x = origin.x + px, y = origin.y + py;
@@ -185,7 +197,6 @@ bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Po
     }
     return label == color;
   };
-  const int anchor = k / 2;
   auto window_of_class = [&](int j, int i) {  // the window starting at patch column j, row i
     const int anchor_x = origin.x + j + anchor, anchor_y = origin.y + i + anchor;
     if (anchor_x < 0 || anchor_x >= image.width || anchor_y < 0 || anchor_y >= image.height) return false;
@@ -196,8 +207,7 @@ bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Po
     }
     return true;
   };
-  const int centred = k - 1 - anchor;
-  if (window_of_class(centred, centred)) return true;
+  const int centred = k - 1 - anchor;  // done above
   for (int i = 0; i < k; ++i) {
     for (int j = 0; j < k; ++j) {
       if ((i != centred || j != centred) && window_of_class(j, i)) return true;
@@ -496,7 +506,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   if (morphology) {
     std::size_t kept = 0;
     for (const cv::Point& g : s.hits) {
-      if (survivesOpening(frame, image, g, k, params_.classes, s.patch, stats.classified_pixels)) s.hits[kept++] = g;
+      if (survivesOpening(frame, image, g, k, params_.classes, s.window, s.patch, stats.classified_pixels)) s.hits[kept++] = g;
     }
     s.hits.resize(kept);
   }
