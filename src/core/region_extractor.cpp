@@ -64,7 +64,7 @@ struct RegionScratch {
   std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
   cv::Mat window;                   // labels of the window centred on a hit
-  std::vector<std::uint8_t> patch;  // labels around a hit, classified lazily
+  cv::Mat patch;                    // labels of the patch around a hit
   std::vector<std::uint8_t> tiles;
   std::vector<int> tile_stack;
   std::vector<Area> areas;
@@ -165,10 +165,10 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
 // entirely of its class: exactly the points that survive the opening. As in
 // cv::morphologyEx, the outside of the image counts as the class for erosion, and only
 // windows of in-image anchor pixels (anchor k/2) exist. The window centred on g first:
-// inside a marker that one passes, so most hits cost k² pixels, not the (2k - 1)² of the
-// patch; the others classify their pixels lazily. Adds the pixels it classified.
+// inside a marker that one passes at the cost of k² pixels; the others need the
+// (2k - 1)² patch. Adds the pixels it classified.
 bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
-                     cv::Mat& window, std::vector<std::uint8_t>& memo, std::uint32_t& classified) {
+                     cv::Mat& window, cv::Mat& patch, std::uint32_t& classified) {
   const int anchor = k / 2;
   // The centred window (its anchor is g: it always exists), classified in one go.
   const cv::Rect centred_window = cv::Rect(g.x - anchor, g.y - anchor, k, k) & image;
@@ -182,20 +182,17 @@ bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Po
   }
   if (all_of_class) return true;
 
-  constexpr std::uint8_t kUnknown = 0xFF;
-  const int n = 2 * k - 1;  // every window holding g lies in the patch g ± (k - 1)
+  // The others (g near the region's edge, most hits of small markers): the whole patch
+  // g ± (k - 1), which holds every window that holds g, in one call.
+  const int n = 2 * k - 1;
   const cv::Point origin(g.x - (k - 1), g.y - (k - 1));
-  memo.assign(static_cast<std::size_t>(n) * n, kUnknown);
-  memo[static_cast<std::size_t>(k - 1) * n + (k - 1)] = color;
-  auto of_class = [&](int px, int py) {  // patch coordinates
+  const cv::Rect inside = cv::Rect(origin.x, origin.y, n, n) & image;
+  frame.classify(inside, patch, classes);
+  classified += static_cast<std::uint32_t>(inside.area());
+  auto of_class = [&](int px, int py) {  // patch coordinates; outside the image: the class
     const int x = origin.x + px, y = origin.y + py;
-    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return true;
-    std::uint8_t& label = memo[static_cast<std::size_t>(py) * n + px];
-    if (label == kUnknown) {
-      label = frame.classifyPixel(x, y, classes);
-      ++classified;
-    }
-    return label == color;
+    if (x < inside.x || y < inside.y || x >= inside.br().x || y >= inside.br().y) return true;
+    return patch.at<std::uint8_t>(y - inside.y, x - inside.x) == color;
   };
   auto window_of_class = [&](int j, int i) {  // the window starting at patch column j, row i
     const int anchor_x = origin.x + j + anchor, anchor_y = origin.y + i + anchor;
