@@ -63,8 +63,8 @@ struct RegionScratch {
   std::vector<cv::Rect> scanned;                // the search windows in the image
   std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
-  cv::Mat window;                   // labels of the window centred on a hit
   cv::Mat patch;                    // labels of the patch around a hit
+  std::vector<std::uint8_t> pending;  // per hit: its opening test is left to its area
   std::vector<std::uint8_t> tiles;
   std::vector<int> tile_stack;
   std::vector<Area> areas;
@@ -164,53 +164,41 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
 // True when grid point `g` lies in some erosion window of the k x k opening that is
 // entirely of its class: exactly the points that survive the opening. As in
 // cv::morphologyEx, the outside of the image counts as the class for erosion, and only
-// windows of in-image anchor pixels (anchor k/2) exist. The window centred on g first:
-// inside a marker that one passes at the cost of k² pixels; the others need the
-// (2k - 1)² patch. Adds the pixels it classified.
-bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
-                     cv::Mat& window, cv::Mat& patch, std::uint32_t& classified) {
+// windows of in-image anchor pixels (anchor k/2) exist. `label(x, y)`: the label of an
+// image pixel in g ± (k - 1). The window centred on g (it always exists) first: inside a
+// marker that one passes.
+template <typename LabelAt>
+bool inOpenedWindow(const LabelAt& label, const cv::Rect& image, cv::Point g, int k) {
+  const std::uint8_t color = label(g.x, g.y);
   const int anchor = k / 2;
-  // The centred window (its anchor is g: it always exists), classified in one go.
-  const cv::Rect centred_window = cv::Rect(g.x - anchor, g.y - anchor, k, k) & image;
-  frame.classify(centred_window, window, classes);
-  classified += static_cast<std::uint32_t>(centred_window.area());
-  const std::uint8_t color = window.at<std::uint8_t>(g.y - centred_window.y, g.x - centred_window.x);
-  bool all_of_class = true;
-  for (int y = 0; y < window.rows && all_of_class; ++y) {
-    const std::uint8_t* row = window.ptr<std::uint8_t>(y);
-    all_of_class = std::all_of(row, row + window.cols, [&](std::uint8_t label) { return label == color; });
-  }
-  if (all_of_class) return true;
-
-  // The others (g near the region's edge, most hits of small markers): the whole patch
-  // g ± (k - 1), which holds every window that holds g, in one call.
-  const int n = 2 * k - 1;
-  const cv::Point origin(g.x - (k - 1), g.y - (k - 1));
-  const cv::Rect inside = cv::Rect(origin.x, origin.y, n, n) & image;
-  frame.classify(inside, patch, classes);
-  classified += static_cast<std::uint32_t>(inside.area());
-  auto of_class = [&](int px, int py) {  // patch coordinates; outside the image: the class
-    const int x = origin.x + px, y = origin.y + py;
-    if (x < inside.x || y < inside.y || x >= inside.br().x || y >= inside.br().y) return true;
-    return patch.at<std::uint8_t>(y - inside.y, x - inside.x) == color;
-  };
-  auto window_of_class = [&](int j, int i) {  // the window starting at patch column j, row i
-    const int anchor_x = origin.x + j + anchor, anchor_y = origin.y + i + anchor;
+  auto window_of_class = [&](int x0, int y0) {  // the window with top-left pixel (x0, y0)
+    const int anchor_x = x0 + anchor, anchor_y = y0 + anchor;
     if (anchor_x < 0 || anchor_x >= image.width || anchor_y < 0 || anchor_y >= image.height) return false;
-    for (int py = i; py < i + k; ++py) {
-      for (int px = j; px < j + k; ++px) {
-        if (!of_class(px, py)) return false;
+    for (int y = std::max(y0, 0); y < std::min(y0 + k, image.height); ++y) {
+      for (int x = std::max(x0, 0); x < std::min(x0 + k, image.width); ++x) {
+        if (label(x, y) != color) return false;
       }
     }
     return true;
   };
-  const int centred = k - 1 - anchor;  // done above
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < k; ++j) {
-      if ((i != centred || j != centred) && window_of_class(j, i)) return true;
+  const cv::Point centred(g.x - anchor, g.y - anchor);
+  if (window_of_class(centred.x, centred.y)) return true;
+  for (int y0 = g.y - (k - 1); y0 <= g.y; ++y0) {
+    for (int x0 = g.x - (k - 1); x0 <= g.x; ++x0) {
+      if (cv::Point(x0, y0) != centred && window_of_class(x0, y0)) return true;
     }
   }
   return false;
+}
+
+// inOpenedWindow on the patch g ± (k - 1), classified here (in one call). Adds the pixels
+// it classified.
+bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
+                     cv::Mat& patch, std::uint32_t& classified) {
+  const cv::Rect inside = cv::Rect(g.x - (k - 1), g.y - (k - 1), 2 * k - 1, 2 * k - 1) & image;
+  frame.classify(inside, patch, classes);
+  classified += static_cast<std::uint32_t>(inside.area());
+  return inOpenedWindow([&](int x, int y) { return patch.at<std::uint8_t>(y - inside.y, x - inside.x); }, image, g, k);
 }
 
 cv::Rect grownBy(const cv::Rect& r, int margin, const cv::Rect& image) {
@@ -500,12 +488,27 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     if (!(w & image).empty()) s.scanned.push_back(w & image);
   }
   stats.grid_points += scanUnion(frame, s.scanned, stride, image, params_.classes, s);
+  // Hits that do not survive the opening are dropped (colour noise then costs a few
+  // pixels per hit, not a tile). One surviving hit makes its tile part of an area, whose
+  // classification will hold the patches of every other hit in it: those are tested
+  // there, on the area's labels, instead of classifying their patches here.
+  s.pending.clear();
   if (morphology) {
+    const int tiles_x = (image.width + tile - 1) / tile;
+    s.tiles.assign(static_cast<std::size_t>(tiles_x) * ((image.height + tile - 1) / tile), 0);
     std::size_t kept = 0;
     for (const cv::Point& g : s.hits) {
-      if (survivesOpening(frame, image, g, k, params_.classes, s.window, s.patch, stats.classified_pixels)) s.hits[kept++] = g;
+      std::uint8_t& needed = s.tiles[static_cast<std::size_t>(g.y / tile) * tiles_x + g.x / tile];
+      const bool pending = needed != 0;
+      if (!pending && !survivesOpening(frame, image, g, k, params_.classes, s.patch, stats.classified_pixels)) continue;
+      needed = 1;
+      s.hits[kept] = g;
+      s.pending.push_back(pending);
+      ++kept;
     }
     s.hits.resize(kept);
+  } else {
+    s.pending.assign(s.hits.size(), 0);
   }
   stats.classify_ms += msSince(since);
 
@@ -526,9 +529,14 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();
     ClassMask present = 0;
-    for (const cv::Point& g : s.hits) {
+    for (std::size_t h = 0; h < s.hits.size(); ++h) {
+      const cv::Point g = s.hits[h];
       const cv::Rect seeds = seedBox(g, image) & core;
       if (seeds.empty()) continue;
+      // A pending hit's patch lies in `outer` (core + margin >= k - 1).
+      if (s.pending[h] && !inOpenedWindow([&](int x, int y) { return s.labels.at<std::uint8_t>(y, x); }, image, g, k)) {
+        continue;
+      }
       const std::uint8_t c = labels.at<std::uint8_t>(g - outer.tl());
       s.area_hits.push_back({seeds, c});
       present |= classBit(static_cast<ColorClass>(c));
