@@ -39,7 +39,7 @@ enum class PixelLayout { Bgr, Rgb, BayerRggb, BayerBggr, BayerGbrg, BayerGrbg };
 
 // sensor_msgs encoding name -> layout; nullopt for anything else (mono8, 16-bit, yuv...).
 std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding);
-bool isBayer(PixelLayout layout);
+inline bool isBayer(PixelLayout layout) { return layout != PixelLayout::Bgr && layout != PixelLayout::Rgb; }
 // Label image size for an image of `image_size` in this layout.
 cv::Size labelSize(cv::Size image_size, PixelLayout layout);
 
@@ -51,7 +51,21 @@ struct LabelRow {
   const std::uint8_t *b, *g1, *g2, *r;
   int step;
 };
-LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y);
+// (Inline: it is called once per row of every rectangle classified.)
+inline LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
+  if (!isBayer(layout)) {
+    const std::uint8_t* p = image.ptr<std::uint8_t>(y);
+    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3} : LabelRow{p + 2, p + 1, p + 1, p, 3};
+  }
+  const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
+  const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
+  switch (layout) {
+    case PixelLayout::BayerRggb: return {bottom + 1, top + 1, bottom, top, 2};
+    case PixelLayout::BayerBggr: return {top, top + 1, bottom, bottom + 1, 2};
+    case PixelLayout::BayerGbrg: return {top + 1, top, bottom + 1, bottom, 2};
+    default: return {bottom, top, bottom + 1, top + 1, 2};  // BayerGrbg
+  }
+}
 // Throws std::invalid_argument unless the image fits the layout (see FrameClassifier).
 void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout);
 

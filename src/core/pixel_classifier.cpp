@@ -209,7 +209,6 @@ std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding) {
   return it->second;
 }
 
-bool isBayer(PixelLayout layout) { return layout != PixelLayout::Bgr && layout != PixelLayout::Rgb; }
 
 cv::Size labelSize(cv::Size image_size, PixelLayout layout) {
   return isBayer(layout) ? cv::Size(image_size.width / 2, image_size.height / 2) : image_size;
@@ -233,22 +232,6 @@ void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout) {
   }
 }
 
-LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
-  if (!isBayer(layout)) {
-    const std::uint8_t* p = image.ptr<std::uint8_t>(y);
-    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3} : LabelRow{p + 2, p + 1, p + 1, p, 3};
-  }
-  const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
-  const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
-  switch (layout) {
-    case PixelLayout::BayerRggb: return {bottom + 1, top + 1, bottom, top, 2};
-    case PixelLayout::BayerBggr: return {top, top + 1, bottom, bottom + 1, 2};
-    case PixelLayout::BayerGbrg: return {top + 1, top, bottom + 1, bottom, 2};
-    case PixelLayout::BayerGrbg: return {bottom, top, bottom + 1, top + 1, 2};
-    default: break;
-  }
-  throw std::invalid_argument("labelRow: unknown layout");
-}
 
 // ---------------------------------------------------------------- PixelClassifier
 
