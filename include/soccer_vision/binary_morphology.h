@@ -25,6 +25,9 @@ class BitMask {
  public:
   // All background.
   void reset(cv::Size size);
+  // This size, contents unspecified (left from before, or background): for outputs
+  // whose every word is written next, without the cost of clearing them first.
+  void resize(cv::Size size);
   // Foreground where `labels` (CV_8UC1) equals `value`.
   void setFromLabels(const cv::Mat& labels, std::uint8_t value);
   cv::Mat toMat() const;  // CV_8UC1, 255 = foreground (tests, debugging)

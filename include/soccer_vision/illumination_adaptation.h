@@ -61,7 +61,9 @@ class IlluminationAdaptation {
   IlluminationAdaptation() = default;  // no reference: offsets are zero
   // Means for the paper's mode; levels (optional) select the normalised mode.
   explicit IlluminationAdaptation(cv::Mat reference_means, cv::Mat reference_levels = {})
-      : reference_(std::move(reference_means)), levels_(std::move(reference_levels)) {}
+      : reference_(std::move(reference_means)),
+        levels_(std::move(reference_levels)),
+        mean_level_(levels_.empty() ? 0.0 : cv::mean(levels_)[0]) {}
 
   const cv::Mat& reference() const { return reference_; }
   bool hasReference() const { return !reference_.empty(); }
@@ -99,6 +101,7 @@ class IlluminationAdaptation {
 
   cv::Mat reference_;
   cv::Mat levels_;
+  double mean_level_ = 0;  // of levels_: L_mean of gainsFor, once per reference
 };
 
 }  // namespace soccer_vision

@@ -39,7 +39,7 @@ enum class PixelLayout { Bgr, Rgb, BayerRggb, BayerBggr, BayerGbrg, BayerGrbg };
 
 // sensor_msgs encoding name -> layout; nullopt for anything else (mono8, 16-bit, yuv...).
 std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding);
-bool isBayer(PixelLayout layout);
+inline bool isBayer(PixelLayout layout) { return layout != PixelLayout::Bgr && layout != PixelLayout::Rgb; }
 // Label image size for an image of `image_size` in this layout.
 cv::Size labelSize(cv::Size image_size, PixelLayout layout);
 
@@ -51,7 +51,21 @@ struct LabelRow {
   const std::uint8_t *b, *g1, *g2, *r;
   int step;
 };
-LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y);
+// (Inline: it is called once per row of every rectangle classified.)
+inline LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
+  if (!isBayer(layout)) {
+    const std::uint8_t* p = image.ptr<std::uint8_t>(y);
+    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3} : LabelRow{p + 2, p + 1, p + 1, p, 3};
+  }
+  const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
+  const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
+  switch (layout) {
+    case PixelLayout::BayerRggb: return {bottom + 1, top + 1, bottom, top, 2};
+    case PixelLayout::BayerBggr: return {top, top + 1, bottom, bottom + 1, 2};
+    case PixelLayout::BayerGbrg: return {top + 1, top, bottom + 1, bottom, 2};
+    default: return {bottom, top, bottom + 1, top + 1, 2};  // BayerGrbg
+  }
+}
 // Throws std::invalid_argument unless the image fits the layout (see FrameClassifier).
 void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout);
 
@@ -114,6 +128,9 @@ class FrameClassifier {
   // the marker classes); a pixel whose colour cube holds no kept class is then settled by
   // one lookup instead of three. All classes by default.
   void classify(const cv::Rect& rect, cv::Mat& out, ClassMask keep = ~ClassMask(0)) const;
+  // The label of one label pixel, as classify would write it (for tests of a few pixels
+  // around a point). Throws std::invalid_argument outside the label image.
+  std::uint8_t classifyPixel(int x, int y, ClassMask keep = ~ClassMask(0)) const;
   // Label pixels (x, y) in `rect` with x % stride == 0 and y % stride == 0 whose class is
   // in `classes`, appended to `hits` row by row. Most pixels are rejected by a 4x4x4
   // colour-cube test before the full lookup. Throws std::invalid_argument for stride < 1
@@ -122,6 +139,10 @@ class FrameClassifier {
   // Colour of a label pixel as classified (BGR; a Bayer quad's R, mean G, B), for
   // sub-pixel weighting of region edges.
   cv::Vec3b colorAt(int x, int y) const;
+  // Where the colours of label row `y` lie (labelRow of the image), for reading many
+  // colours of a row without colorAt's per-pixel checks. Throws std::invalid_argument for
+  // a row outside the label image.
+  LabelRow row(int y) const;
   // V (max channel) of a label pixel as looked up: sharpened (when enabled), then
   // adjusted by its block's gain and offset (ColorTable::adjustedV). For debugging/tests.
   int adaptedV(int x, int y) const;

@@ -12,6 +12,13 @@ void BitMask::reset(cv::Size size) {
   words_.assign(static_cast<std::size_t>(words_per_row_) * height_, 0);
 }
 
+void BitMask::resize(cv::Size size) {
+  width_ = size.width;
+  height_ = size.height;
+  words_per_row_ = (size.width + 63) / 64;
+  words_.resize(static_cast<std::size_t>(words_per_row_) * height_);
+}
+
 std::uint64_t BitMask::validBits(int w) const {
   const int bits = std::min(64, width_ - 64 * w);
   return bits >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << bits) - 1;
@@ -66,58 +73,111 @@ std::uint64_t combine(std::uint64_t a, std::uint64_t b) {
   return kErode ? a & b : a | b;
 }
 
+// Bit x of the result is bit x + d of the row (d > 0) or x - |d| (d < 0): `p` points at
+// the word, with its neighbours at p[-1] and p[1].
+template <int D>
+std::uint64_t shifted(const std::uint64_t* p) {
+  if constexpr (D > 0) return (p[0] >> D) | (p[1] << (64 - D));
+  if constexpr (D < 0) return (p[0] << -D) | (p[-1] >> (64 + D));
+  return p[0];
+}
+
+// The horizontal combination of one padded row word, window [First, Last] known at
+// compile time (the kernels of the region extractor: 2 and 3).
+template <bool kErode, int First, int Last>
+std::uint64_t rowWindow(const std::uint64_t* p) {
+  std::uint64_t acc = p[0];
+  if constexpr (First <= -2) acc = combine<kErode>(acc, shifted<-2>(p));
+  if constexpr (First <= -1) acc = combine<kErode>(acc, shifted<-1>(p));
+  if constexpr (Last >= 1) acc = combine<kErode>(acc, shifted<1>(p));
+  if constexpr (Last >= 2) acc = combine<kErode>(acc, shifted<2>(p));
+  return acc;
+}
+
 template <bool kErode>
-void columnPass(const BitMask& in, int k, int anchor, BitMask& out) {
-  const int first = -anchor, last = k - 1 - anchor;
-  const int words = in.wordsPerRow();
-  for (int y = 0; y < in.height(); ++y) {
-    std::uint64_t* o = out.row(y);
-    std::copy(in.row(y), in.row(y) + words, o);
-    for (int d = std::max(first, -y); d <= std::min(last, in.height() - 1 - y); ++d) {
+std::uint64_t rowWindow(const std::uint64_t* p, int first, int last) {
+  std::uint64_t acc = p[0];
+  for (int d = first; d <= last; ++d) {
+    if (d > 0) acc = combine<kErode>(acc, (p[0] >> d) | (p[1] << (64 - d)));
+    if (d < 0) acc = combine<kErode>(acc, (p[0] << -d) | (p[-1] >> (64 + d)));
+  }
+  return acc;
+}
+
+// A row window [First, Last] as a type (First > Last: known at run time only).
+template <int First, int Last>
+struct Window {
+  static constexpr int first = First, last = Last;
+};
+
+// One pass, row by row: the column combination of the rows y + d into a padded row (an
+// identity word on each side makes the shifts across word boundaries branch-free; the
+// bits beyond the width are the identity during the pass), then the row combination
+// into the output. Every output word is written.
+template <bool kErode, int First, int Last>
+void squareRows(const BitMask& in, int first, int last, int row_begin, int row_end, BitMask& out,
+                std::vector<std::uint64_t>& padded) {
+  const int words = in.wordsPerRow(), height = in.height();
+  for (int y = 0; y < row_begin; ++y) std::fill(out.row(y), out.row(y) + words, 0);
+  for (int y = row_end; y < height; ++y) std::fill(out.row(y), out.row(y) + words, 0);
+  const std::uint64_t identity = kErode ? ~std::uint64_t(0) : 0;
+  const std::uint64_t tail = in.validBits(words - 1);
+  padded.resize(static_cast<std::size_t>(words) + 2);
+  std::uint64_t* column = padded.data() + 1;
+  column[-1] = identity;
+  column[words] = identity;
+  for (int y = row_begin; y < row_end; ++y) {
+    std::copy(in.row(y), in.row(y) + words, column);
+    for (int d = std::max(first, -y); d <= std::min(last, height - 1 - y); ++d) {
       if (d == 0) continue;
       const std::uint64_t* r = in.row(y + d);
-      for (int w = 0; w < words; ++w) o[w] = combine<kErode>(o[w], r[w]);
+      for (int w = 0; w < words; ++w) column[w] = combine<kErode>(column[w], r[w]);
     }
-  }
-}
-
-// In place, row by row: a copy of the row with an identity word on each side makes the
-// shifts across word boundaries branch-free; the bits beyond the width are set to the
-// identity for the pass and cleared after it.
-template <bool kErode>
-void rowPass(BitMask& mask, int k, int anchor, std::vector<std::uint64_t>& padded) {
-  const int first = -anchor, last = k - 1 - anchor;
-  const int words = mask.wordsPerRow();
-  const std::uint64_t identity = kErode ? ~std::uint64_t(0) : 0;
-  const std::uint64_t tail = mask.validBits(words - 1);
-  padded.resize(static_cast<std::size_t>(words) + 2);
-  for (int y = 0; y < mask.height(); ++y) {
-    std::uint64_t* row = mask.row(y);
-    padded[0] = identity;
-    std::copy(row, row + words, padded.begin() + 1);
-    padded[static_cast<std::size_t>(words)] |= identity & ~tail;
-    padded[static_cast<std::size_t>(words) + 1] = identity;
+    column[words - 1] |= identity & ~tail;
+    std::uint64_t* o = out.row(y);
     for (int w = 0; w < words; ++w) {
-      const std::uint64_t* p = padded.data() + w + 1;
-      std::uint64_t acc = p[0];
-      for (int d = first; d <= last; ++d) {
-        if (d > 0) acc = combine<kErode>(acc, (p[0] >> d) | (p[1] << (64 - d)));
-        if (d < 0) acc = combine<kErode>(acc, (p[0] << -d) | (p[-1] >> (64 + d)));
+      if constexpr (First <= Last) {
+        o[w] = rowWindow<kErode, First, Last>(column + w);
+      } else {
+        o[w] = rowWindow<kErode>(column + w, first, last);
       }
-      row[w] = acc;
     }
-    row[words - 1] &= tail;
+    o[words - 1] &= tail;
   }
 }
 
+// Rows outside [row_begin, row_end) are left out and written as background: the caller
+// knows that they are background in the input and in the result.
 template <bool kErode>
-void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch) {
+void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch, int row_begin = 0,
+                int row_end = -1) {
   if (anchor < 0) anchor = k / 2;
   CV_Assert(k >= 1 && k < 64 && anchor < k && &in != &out);
-  out.reset(cv::Size(in.width(), in.height()));
+  out.resize(cv::Size(in.width(), in.height()));
   if (in.width() == 0 || in.height() == 0) return;
-  columnPass<kErode>(in, k, anchor, out);
-  rowPass<kErode>(out, k, anchor, scratch.padded_row);
+  if (row_end < 0) row_end = in.height();
+  const int first = -anchor, last = k - 1 - anchor;
+  auto& padded = scratch.padded_row;
+  auto rows = [&](auto window) {
+    squareRows<kErode, decltype(window)::first, decltype(window)::last>(in, first, last, row_begin, row_end, out, padded);
+  };
+  if (first == -1 && last == 1) return rows(Window<-1, 1>());
+  if (first == -1 && last == 0) return rows(Window<-1, 0>());
+  if (first == 0 && last == 1) return rows(Window<0, 1>());
+  if (first == -2 && last == 2) return rows(Window<-2, 2>());
+  rows(Window<1, 0>());  // any other window, at run time
+}
+
+// First and one past the last row holding foreground (0, 0 when there is none).
+std::pair<int, int> occupiedRows(const BitMask& mask) {
+  auto occupied = [&](int y) {
+    const std::uint64_t* row = mask.row(y);
+    return std::any_of(row, row + mask.wordsPerRow(), [](std::uint64_t w) { return w != 0; });
+  };
+  int begin = 0, end = mask.height();
+  while (begin < end && !occupied(begin)) ++begin;
+  while (end > begin && !occupied(end - 1)) --end;
+  return {begin, end};
 }
 
 }  // namespace
@@ -132,10 +192,17 @@ void dilate(const BitMask& in, int k, BitMask& out, MorphologyScratch& scratch, 
 
 void openThenClose(BitMask& mask, int k, MorphologyScratch& scratch) {
   const int a = k / 2, reflected = k - 1 - k / 2;  // equal for odd k
-  erode(mask, k, scratch.temp, scratch, a);
-  dilate(scratch.temp, k, mask, scratch, reflected);
-  dilate(mask, k, scratch.temp, scratch, a);
-  erode(scratch.temp, k, mask, scratch, reflected);
+  // Only the rows near the foreground can change: the opening keeps within the
+  // foreground's rows, the closing's dilation reaches k/2 rows beyond them, and its erosion
+  // does not grow. So k rows around them are computed and every other row is background
+  // (the mask borders keep their meaning: rows beyond them still count as in cv::erode).
+  const auto [occupied_begin, occupied_end] = occupiedRows(mask);
+  const int begin = std::max(0, occupied_begin - k), end = std::min(mask.height(), occupied_end + k);
+  if (occupied_begin >= occupied_end) return;  // all background stays so
+  squarePass<true>(mask, k, a, scratch.temp, scratch, begin, end);
+  squarePass<false>(scratch.temp, k, reflected, mask, scratch, begin, end);
+  squarePass<false>(mask, k, a, scratch.temp, scratch, begin, end);
+  squarePass<true>(scratch.temp, k, reflected, mask, scratch, begin, end);
 }
 
 }  // namespace soccer_vision

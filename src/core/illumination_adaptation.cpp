@@ -13,6 +13,13 @@ float median(std::vector<float>& values) {
   return *middle;
 }
 
+// std::lround for 0 <= v < 2^52, inline: v - trunc(v) is exact there, so halves round
+// away from zero as lround does.
+long roundPositive(double v) {
+  const auto whole = static_cast<long>(v);
+  return whole + (v - static_cast<double>(whole) >= 0.5 ? 1 : 0);
+}
+
 // The block grid of an image: block side in label pixels, label size, rows and columns.
 struct BlockGrid {
   BlockGrid(const cv::Mat& image, PixelLayout layout)
@@ -84,33 +91,30 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step, co
   const int block_rows = (image.rows + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize;
   const int block_cols = (image.cols + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize;
   cv::Mat means(block_rows, block_cols, CV_32FC1);
-  std::vector<std::uint32_t> sums(static_cast<std::size_t>(block_cols));
+  std::vector<LabelRow> rows;
   for (int by = 0; by < block_rows; ++by) {
-    std::fill(sums.begin(), sums.end(), 0u);
     const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(by);
-    if (wanted && std::none_of(wanted, wanted + block_cols, [](std::uint8_t w) { return w != 0; })) {
-      means.row(by).setTo(0.0f);
-      continue;
-    }
+    float* out = means.ptr<float>(by);
     const int y0 = by * block, y1 = std::min(y0 + block, labels.height);
-    for (int y = y0; y < y1; y += sample_step) {
-      const LabelRow row = labelRow(image, layout, y);
-      for (int bx = 0; bx < block_cols; ++bx) {
-        if (wanted && !wanted[bx]) continue;
-        const int x1 = std::min((bx + 1) * block, labels.width);
-        std::uint32_t sum = 0;
+    rows.clear();  // the rows read, located once per block row
+    if (!wanted || std::any_of(wanted, wanted + block_cols, [](std::uint8_t w) { return w != 0; })) {
+      for (int y = y0; y < y1; y += sample_step) rows.push_back(labelRow(image, layout, y));
+    }
+    for (int bx = 0; bx < block_cols; ++bx) {
+      if (wanted && !wanted[bx]) {
+        out[bx] = 0.0f;
+        continue;
+      }
+      const int x1 = std::min((bx + 1) * block, labels.width);
+      std::uint32_t sum = 0;
+      for (const LabelRow& row : rows) {
         for (int i = bx * block * row.step; i < x1 * row.step; i += sample_step * row.step) {
           sum += static_cast<std::uint32_t>(std::max({int(row.b[i]), (row.g1[i] + row.g2[i] + 1) >> 1, int(row.r[i])}));
         }
-        sums[static_cast<std::size_t>(bx)] += sum;
       }
-    }
-    const int rows_read = (y1 - y0 + sample_step - 1) / sample_step;
-    float* out = means.ptr<float>(by);
-    for (int bx = 0; bx < block_cols; ++bx) {
-      const int width = std::min((bx + 1) * block, labels.width) - bx * block;
-      const int read = rows_read * ((width + sample_step - 1) / sample_step);
-      out[bx] = wanted && !wanted[bx] ? 0.0f : static_cast<float>(static_cast<double>(sums[static_cast<std::size_t>(bx)]) / read);
+      const int width = x1 - bx * block;
+      const int read = static_cast<int>(rows.size()) * ((width + sample_step - 1) / sample_step);
+      out[bx] = static_cast<float>(static_cast<double>(sum) / read);
     }
   }
   return means;
@@ -125,48 +129,35 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
   checkBlockMap(expected, grid, "blockLightLevels: the expected levels");
   checkSelection(selected, grid, "blockLightLevels");
   cv::Mat levels(grid.rows, grid.cols, CV_32FC1);
-  cv::Mat1b measured(grid.rows, grid.cols);
-  std::vector<std::uint32_t> sums(static_cast<std::size_t>(grid.cols)), counts(sums.size()), read(sums.size());
-  std::vector<int> low(sums.size()), high(sums.size());
+  cv::Mat1b measured(grid.rows, grid.cols, std::uint8_t(0));
   std::vector<float> ratios;
+  std::vector<LabelRow> rows;
   for (int by = 0; by < grid.rows; ++by) {
-    std::fill(sums.begin(), sums.end(), 0u);
-    std::fill(counts.begin(), counts.end(), 0u);
     const float* e = expected.ptr<float>(by);
     const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(by);
-    if (wanted && std::none_of(wanted, wanted + grid.cols, [](std::uint8_t w) { return w != 0; })) {
-      measured.row(by).setTo(0);
-      continue;
-    }
-    for (int bx = 0; bx < grid.cols; ++bx) {
-      low[bx] = static_cast<int>(std::ceil(kLevelBandLow * e[bx]));
-      high[bx] = std::max(low[bx], static_cast<int>(std::floor(kLevelBandHigh * e[bx])));
-    }
+    if (wanted && std::none_of(wanted, wanted + grid.cols, [](std::uint8_t w) { return w != 0; })) continue;
     const int y0 = by * grid.block, y1 = std::min(y0 + grid.block, grid.labels.height);
-    for (int y = y0; y < y1; y += sample_step) {
-      const LabelRow row = labelRow(image, layout, y);
-      for (int bx = 0; bx < grid.cols; ++bx) {
-        if (wanted && !wanted[bx]) continue;
-        const int x1 = std::min((bx + 1) * grid.block, grid.labels.width);
-        const auto lo = static_cast<unsigned>(low[bx]), width = static_cast<unsigned>(high[bx] - low[bx]);
-        const int x0 = bx * grid.block;
-        if (row.step == 3) {
-          sumInBand<3>(row, x0, x1, sample_step, lo, width, sums[bx], counts[bx]);
-        } else {
-          sumInBand<2>(row, x0, x1, sample_step, lo, width, sums[bx], counts[bx]);
-        }
-      }
-    }
-    const int rows_read = (y1 - y0 + sample_step - 1) / sample_step;
-    for (int bx = 0; bx < grid.cols; ++bx) {
-      const int width = std::min((bx + 1) * grid.block, grid.labels.width) - bx * grid.block;
-      read[bx] = static_cast<std::uint32_t>(rows_read * ((width + sample_step - 1) / sample_step));
-    }
+    rows.clear();  // the rows read, located once per block row
+    for (int y = y0; y < y1; y += sample_step) rows.push_back(labelRow(image, layout, y));
     float* out = levels.ptr<float>(by);
     for (int bx = 0; bx < grid.cols; ++bx) {
-      measured(by, bx) = (!wanted || wanted[bx]) && counts[bx] > 0 && counts[bx] >= kMinLevelFraction * read[bx];
-      if (measured(by, bx)) {
-        out[bx] = static_cast<float>(static_cast<double>(sums[bx]) / counts[bx]);
+      if (wanted && !wanted[bx]) continue;
+      const int low = static_cast<int>(std::ceil(kLevelBandLow * e[bx]));
+      const int high = std::max(low, static_cast<int>(std::floor(kLevelBandHigh * e[bx])));
+      const auto lo = static_cast<unsigned>(low), width = static_cast<unsigned>(high - low);
+      const int x0 = bx * grid.block, x1 = std::min(x0 + grid.block, grid.labels.width);
+      std::uint32_t sum = 0, count = 0;
+      for (const LabelRow& row : rows) {
+        if (row.step == 3) {
+          sumInBand<3>(row, x0, x1, sample_step, lo, width, sum, count);
+        } else {
+          sumInBand<2>(row, x0, x1, sample_step, lo, width, sum, count);
+        }
+      }
+      const auto read = static_cast<std::uint32_t>(rows.size() * ((x1 - x0 + sample_step - 1) / sample_step));
+      if (count > 0 && count >= kMinLevelFraction * read) {
+        measured(by, bx) = 1;
+        out[bx] = static_cast<float>(static_cast<double>(sum) / count);
         ratios.push_back(out[bx] / e[bx]);
       }
     }
@@ -235,7 +226,7 @@ BlockOffsets IlluminationAdaptation::gainsFor(const cv::Mat& levels) const {
   if (levels.type() != CV_32FC1 || levels.size() != levels_.size()) {
     throw std::invalid_argument("illumination gains: levels must be a CV_32FC1 of the reference's block grid");
   }
-  const double mean_level = cv::mean(levels_)[0];
+  const double mean_level = mean_level_;
   BlockOffsets out;
   out.gains.create(levels.size(), CV_16UC1);
   for (int y = 0; y < levels.rows; ++y) {
@@ -244,7 +235,7 @@ BlockOffsets IlluminationAdaptation::gainsFor(const cv::Mat& levels) const {
     for (int x = 0; x < levels.cols; ++x) {
       const double g = ColorTable::kUnitGain * mean_level / std::max(level[x], 1e-3f);
       gain[x] = static_cast<std::uint16_t>(
-          std::clamp<long>(std::lround(std::min(g, 1e6)), ColorTable::kUnitGain / 8, 8 * ColorTable::kUnitGain));
+          std::clamp<long>(roundPositive(std::min(g, 1e6)), ColorTable::kUnitGain / 8, 8 * ColorTable::kUnitGain));
     }
   }
   return out;

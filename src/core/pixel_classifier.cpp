@@ -209,7 +209,6 @@ std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding) {
   return it->second;
 }
 
-bool isBayer(PixelLayout layout) { return layout != PixelLayout::Bgr && layout != PixelLayout::Rgb; }
 
 cv::Size labelSize(cv::Size image_size, PixelLayout layout) {
   return isBayer(layout) ? cv::Size(image_size.width / 2, image_size.height / 2) : image_size;
@@ -233,22 +232,6 @@ void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout) {
   }
 }
 
-LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
-  if (!isBayer(layout)) {
-    const std::uint8_t* p = image.ptr<std::uint8_t>(y);
-    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3} : LabelRow{p + 2, p + 1, p + 1, p, 3};
-  }
-  const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
-  const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
-  switch (layout) {
-    case PixelLayout::BayerRggb: return {bottom + 1, top + 1, bottom, top, 2};
-    case PixelLayout::BayerBggr: return {top, top + 1, bottom, bottom + 1, 2};
-    case PixelLayout::BayerGbrg: return {top + 1, top, bottom + 1, bottom, 2};
-    case PixelLayout::BayerGrbg: return {bottom, top, bottom + 1, top + 1, 2};
-    default: break;
-  }
-  throw std::invalid_argument("labelRow: unknown layout");
-}
 
 // ---------------------------------------------------------------- PixelClassifier
 
@@ -331,6 +314,24 @@ cv::Vec3b FrameClassifier::colorAt(int x, int y) const {
   return {row.b[x * row.step], static_cast<std::uint8_t>(greenAt(row, x)), row.r[x * row.step]};
 }
 
+std::uint8_t FrameClassifier::classifyPixel(int x, int y, ClassMask keep) const {
+  checkRect({x, y, 1, 1});
+  const ClassLookup& lookup = *classifier_.lookup_;
+  const LabelRow row = labelRow(image_, layout_, y);
+  const int b = row.b[x * row.step], g = greenAt(row, x), r = row.r[x * row.step];
+  // A cube holding none of `keep` gives None, as classify writes it (with every class
+  // kept, every cube passes: its mask holds at least None).
+  if (!lookup.mayBeIn(b, g, r, keep)) return 0;
+  const int v = sharpen_terms_.empty() ? maxOf(b, g, r) : sharpenedV(x, y);
+  const std::uint8_t label = lookup.classAt(b, g, r, adjustedVAt(x, y, v));
+  return keep & (ClassMask(1) << label) ? label : 0;
+}
+
+LabelRow FrameClassifier::row(int y) const {
+  checkRect({0, y, label_size_.width, 1});
+  return labelRow(image_, layout_, y);
+}
+
 namespace {
 
 // The block adjustments of one label row.
@@ -352,15 +353,24 @@ void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjust
   }
 }
 
-// The same, other classes than `keep` written as None.
+// The colour cube of a pixel from unsigned channels: ClassLookup::cubeIndex in 32-bit
+// arithmetic (immediate masks, no sign extensions), for the hot loops below.
+inline std::size_t cubeOf(unsigned b, unsigned g, unsigned r) {
+  static_assert(ClassLookup::kCubeShift == 2 && ClassLookup::kCubeBits == 6, "cubeOf assumes 6-bit cubes");
+  return ((b << 10) & 0x3F000u) | ((g << 4) & 0xFC0u) | (r >> 2);
+}
+
+// The same, other classes than `keep` written as None. The tables' pointers live in
+// locals: stores through `out` could alias them as far as the compiler knows.
 template <int Step>
 void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0,
                         int x1, ClassMask keep, std::uint8_t* out) {
+  const std::uint16_t* cube_classes = lookup.cube_classes.data();
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; ++x) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
     std::uint8_t label = 0;
-    if (lookup.mayBeIn(b, g, r, keep)) {
+    if (cube_classes[cubeOf(unsigned(b), unsigned(g), unsigned(r))] & keep) {
       label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
       if (!(keep & (ClassMask(1) << label))) label = 0;
     }
@@ -368,15 +378,28 @@ void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const Ro
   }
 }
 
+// A grid point whose cube may hold a wanted class: the full lookup, out of the scan's
+// loop so that the loop keeps its few values in registers.
+[[gnu::noinline]] void checkGridPoint(const ClassLookup& lookup, const RowAdjustment& adjusted, int x, int y,
+                                      unsigned b, unsigned g, unsigned r, ClassMask classes,
+                                      std::vector<cv::Point>& hits) {
+  const int label = lookup.classAt(int(b), int(g), int(r), adjusted(x, maxOf(int(b), int(g), int(r))));
+  if (classes & (ClassMask(1) << label)) hits.push_back(cv::Point(x, y));
+}
+
+// Grid points of a row: most are rejected by their cube, so that path is kept short
+// (pointers in registers, one index step per point).
 template <int Step>
 void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0, int x1,
              int stride, ClassMask classes, std::vector<cv::Point>& hits) {
-  const Pixels<Step> px(row);
-  for (int x = x0; x < x1; x += stride) {
-    const int b = px.b(x), g = px.g(x), r = px.r(x);
-    if (!lookup.mayBeIn(b, g, r, classes)) continue;
-    const int label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
-    if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
+  const std::uint16_t* cube_classes = lookup.cube_classes.data();
+  const std::uint8_t *pb = row.b, *pg1 = row.g1, *pg2 = row.g2, *pr = row.r;
+  const std::size_t step = static_cast<std::size_t>(stride) * Step;
+  std::size_t i = static_cast<std::size_t>(x0) * Step;
+  for (int x = x0; x < x1; x += stride, i += step) {
+    const unsigned b = pb[i], r = pr[i];
+    const unsigned g = Step == 3 ? pg1[i] : (pg1[i] + pg2[i] + 1u) >> 1;  // bgr8/rgb8: one green
+    if (cube_classes[cubeOf(b, g, r)] & classes) checkGridPoint(lookup, adjusted, x, y, b, g, r, classes, hits);
   }
 }
 

@@ -7,7 +7,13 @@
 // floor (one streaming read of the frame). Prints medians and ratios.
 //
 //   rosrun soccer_vision bench [--json FILE] [--frames N] [--repeat R]
-//                              [--resolutions 780x580,1280x1024,2448x2048]
+//                              [--resolutions 780x580,1280x1024,2448x2048] [--windows-only]
+//                              [--regions FILE]
+//
+// --windows-only runs the windowed segmentation alone (for a profiler: perf record,
+// valgrind --tool=callgrind); the other figures are then not measured.
+// --regions FILE writes every region found (full frame, windows, Bayer, sharpened; all
+// digits) so that two builds can be compared for bit-identical results with diff.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -38,6 +44,8 @@ struct Options {
   std::string json;
   int frames = 8;
   int repeat = 5;
+  bool windows_only = false;
+  std::string regions;
   std::vector<cv::Size> resolutions = {{780, 580}, {1280, 1024}, {2448, 2048}};
 };
 
@@ -52,6 +60,8 @@ Options parseArgs(int argc, char** argv) {
     if (a == "--json") o.json = value();
     else if (a == "--frames") o.frames = std::max(1, std::stoi(value()));
     else if (a == "--repeat") o.repeat = std::max(1, std::stoi(value()));
+    else if (a == "--windows-only") o.windows_only = true;
+    else if (a == "--regions") o.regions = value();
     else if (a == "--resolutions") {
       o.resolutions.clear();
       std::stringstream ss(value());
@@ -61,7 +71,7 @@ Options parseArgs(int argc, char** argv) {
         o.resolutions.emplace_back(std::stoi(r.substr(0, x)), std::stoi(r.substr(x + 1)));
       }
     } else {
-      throw std::runtime_error("unknown argument '" + a + "' (--json FILE, --frames N, --repeat R, --resolutions WxH,...)");
+      throw std::runtime_error("unknown argument '" + a + "' (--json FILE, --frames N, --repeat R, --resolutions WxH,..., --windows-only, --regions FILE)");
     }
   }
   return o;
@@ -107,6 +117,16 @@ std::vector<cv::Rect> windowsFor(const sv::SceneState& scene, const sv::FieldRen
   return out;
 }
 
+// One line per region, every digit: identical files mean identical results.
+void writeRegions(std::FILE* out, const std::string& what, const sv::SegmentationResult& result) {
+  if (!out) return;
+  for (const sv::Region& r : result.regions) {
+    std::fprintf(out, "%s c%d a%u %.17g %.17g %.17g %.17g %.17g %.17g box %d %d %d %d\n", what.c_str(),
+                 static_cast<int>(r.color), r.area, r.cx, r.cy, r.mu20, r.mu11, r.mu02, r.orientation, r.bbox.x,
+                 r.bbox.y, r.bbox.width, r.bbox.height);
+  }
+}
+
 struct Series {
   std::map<std::string, std::vector<double>> ms;
   void add(const std::string& key, double v) { ms[key].push_back(v); }
@@ -116,7 +136,7 @@ struct Series {
   }
 };
 
-nlohmann::json runResolution(const cv::Size& size, const Options& o) {
+nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* regions_out) {
   sv::ScenarioConfig scenario;
   scenario.width = size.width;
   scenario.height = size.height;
@@ -158,19 +178,25 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
   Series s;
   std::size_t regions = 0, windows = 0;
   volatile std::uint64_t sink = 0;
+  auto tag = [&](int frame, const char* what) {
+    return std::to_string(size.width) + "x" + std::to_string(size.height) + " frame " + std::to_string(frame) + " " + what;
+  };
   for (int i = 0; i < o.frames; ++i) {
     const auto wins = windowsFor(scenes[i], renderer, patterns);
     windows += wins.size();
     for (int r = 0; r < o.repeat; ++r) {
-      segmenter.process(*model, bgr[i], sv::PixelLayout::Bgr, {}, result);
-      s.add("total", result.timings.total_ms);
-      s.add("illumination", result.timings.illumination_ms);
-      s.add("classification", result.timings.classification_ms);
-      s.add("morphology", result.timings.morphology_ms);
-      s.add("regions", result.timings.regions_ms);
-      s.add("grid_points", result.grid_points);
-      s.add("classified_pixels", result.classified_pixels);
-      regions += result.regions.size();
+      if (!o.windows_only) {
+        segmenter.process(*model, bgr[i], sv::PixelLayout::Bgr, {}, result);
+        s.add("total", result.timings.total_ms);
+        s.add("illumination", result.timings.illumination_ms);
+        s.add("classification", result.timings.classification_ms);
+        s.add("morphology", result.timings.morphology_ms);
+        s.add("regions", result.timings.regions_ms);
+        s.add("grid_points", result.grid_points);
+        s.add("classified_pixels", result.classified_pixels);
+        regions += result.regions.size();
+        if (r == 0) writeRegions(regions_out, tag(i, "full"), result);
+      }
       segmenter.process(*model, bgr[i], sv::PixelLayout::Bgr, wins, result);
       s.add("windowed", result.timings.total_ms);
       s.add("windowed_illumination", result.timings.illumination_ms);
@@ -179,10 +205,17 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
       s.add("windowed_regions", result.timings.regions_ms);
       s.add("windowed_grid_points", result.grid_points);
       s.add("windowed_classified_pixels", result.classified_pixels);
+      if (r == 0) writeRegions(regions_out, tag(i, "windows"), result);
+      if (o.windows_only) {
+        regions += result.regions.size();
+        continue;
+      }
       sharpened.process(*model, bgr[i], sv::PixelLayout::Bgr, {}, result);
       s.add("sharpened", result.timings.total_ms);
+      if (r == 0) writeRegions(regions_out, tag(i, "sharpened"), result);
       segmenter.process(*model, bayer[i], sv::PixelLayout::BayerRggb, {}, result);
       s.add("bayer", result.timings.total_ms);
+      if (r == 0) writeRegions(regions_out, tag(i, "bayer"), result);
       s.add("opencv", timeMs([&] { sink = sink + baseline.run(bgr[i]); }));
       s.add("floor", timeMs([&] { sink = sink + streamingRead(bgr[i]); }));
     }
@@ -192,11 +225,16 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o) {
   std::printf("\n%dx%d  (%d frames x %d repeats; lookup built in %.0f ms; %.1f regions/frame; %.1f windows/frame)\n",
               size.width, size.height, o.frames, o.repeat, model_ms,
               static_cast<double>(regions) / (o.frames * o.repeat), static_cast<double>(windows) / o.frames);
-  std::printf("  segmentation, full frame   %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, regions %.3f)\n",
-              seg, s.med("illumination"), s.med("classification"), s.med("morphology"), s.med("regions"));
+  if (!o.windows_only) {
+    std::printf("  segmentation, full frame   %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, regions %.3f)\n",
+                seg, s.med("illumination"), s.med("classification"), s.med("morphology"), s.med("regions"));
+  }
   std::printf("  segmentation, windows      %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, regions %.3f)\n",
               s.med("windowed"), s.med("windowed_illumination"), s.med("windowed_classification"),
               s.med("windowed_morphology"), s.med("windowed_regions"));
+  if (o.windows_only) {
+    return {{"width", size.width}, {"height", size.height}, {"windowed_ms", s.med("windowed")}};
+  }
   std::printf("  pixels looked up: full frame %.0f grid + %.0f around hits, windows %.0f grid + %.0f around hits\n",
               s.med("grid_points"), s.med("classified_pixels"), s.med("windowed_grid_points"),
               s.med("windowed_classified_pixels"));
@@ -233,9 +271,16 @@ int main(int argc, char** argv) {
     report["threads"] = 1;
     report["frames"] = o.frames;
     report["repeat"] = o.repeat;
-    for (const auto& size : o.resolutions) {
-      report["resolutions"][std::to_string(size.width) + "x" + std::to_string(size.height)] = runResolution(size, o);
+    std::FILE* regions_out = nullptr;
+    if (!o.regions.empty()) {
+      regions_out = std::fopen(o.regions.c_str(), "w");
+      if (!regions_out) throw std::runtime_error("cannot write " + o.regions);
     }
+    for (const auto& size : o.resolutions) {
+      report["resolutions"][std::to_string(size.width) + "x" + std::to_string(size.height)] =
+          runResolution(size, o, regions_out);
+    }
+    if (regions_out) std::fclose(regions_out);
     if (!o.json.empty()) {
       std::ofstream(o.json) << report.dump(2) << "\n";
       std::printf("\nwrote %s\n", o.json.c_str());

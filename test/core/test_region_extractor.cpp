@@ -259,6 +259,31 @@ TEST(RegionExtractor, WindowsReturnCrossingRegionsWholeAndNothingOutside) {
   EXPECT_EQ(windowed[0].area, 70 * 12);
 }
 
+// Overlapping windows (robots close together) are scanned as their union: each grid point
+// once, the regions those of the union. Two copies of a window cost what one does; a
+// window and a shifted copy cost the grid points of their union, counted by hand.
+TEST(RegionExtractor, OverlappingWindowsScanTheirUnionOnce) {
+  cv::Mat1b labels(200, 300, static_cast<std::uint8_t>(ColorClass::None));
+  cv::rectangle(labels, cv::Rect(40, 50, 70, 12), cv::Scalar(static_cast<int>(ColorClass::Blue)), cv::FILLED);
+  cv::circle(labels, {120, 100}, 10, cv::Scalar(static_cast<int>(ColorClass::Pink)), cv::FILLED);
+  const cv::Mat bgr = colorsOf(labels);
+  RegionParams params = binaryParams(3, 16);
+  params.max_area = 20000;
+  const cv::Rect a(30, 40, 90, 60), b(60, 70, 90, 60);  // union: 30..150 x 40..130, minus two corners
+  const Extraction one = extract(bgr, params, {a});
+  const Extraction twice = extract(bgr, params, {a, a});
+  EXPECT_EQ(twice.stats.grid_points, one.stats.grid_points);
+  EXPECT_EQ(one.stats.grid_points, 30u * 20u);  // multiples of 3 in [30, 120) x [40, 100)
+  EXPECT_TRUE(sameBlobs(blobsOf(twice.regions), blobsOf(one.regions)));
+  const Extraction both = extract(bgr, params, {a, b});
+  // Columns 30..147 (40 multiples of 3) over rows 72..99 (10 rows: both windows), columns
+  // 30..117 (30) over rows 42..69 (10), columns 60..147 (30) over rows 102..129 (10).
+  EXPECT_EQ(both.stats.grid_points, 40u * 10u + 30u * 10u + 30u * 10u);
+  const std::vector<Blob> union_regions = blobsOf(both.regions);
+  ASSERT_EQ(union_regions.size(), 2u);
+  EXPECT_TRUE(sameBlobs(union_regions, blobsOf(extract(bgr, params).regions)));
+}
+
 TEST(RegionExtractor, WindowedRegionsAreGlobalRegionsAndCoverTheWindows) {
   std::mt19937 rng(11);
   int checked = 0, returned = 0;
