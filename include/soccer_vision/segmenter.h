@@ -25,15 +25,23 @@ struct SegmentationParams {
   int illumination_sample_step = 8;   // read every n-th row/column of a block for its mean V / level (16 of 1024: the mean of a noisy carpet to 0.4 levels)
   int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units (paper's mode)
   double sharpen = 0.0;               // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
-  // In label pixels. Bayer mosaics have one label per 2x2 quad: there the Segmenter uses
-  // quadLabelParams(regions), so that the same settings keep markers of the same size.
+  // In label pixels of a 1280-px-wide label image (kRegionParamsWidth) of a camera over
+  // half the field. Narrower label images (lower resolutions, Bayer mosaics: one label per
+  // 2x2 quad) use labelParams(regions, width), so that the same settings keep markers of
+  // the same size.
   RegionParams regions;
 };
 
-// Region parameters given for label = image pixels, as they apply to Bayer quads (half the
-// resolution): kernel k / 2 (3 -> 1, i.e. off: a 3x3 opening of quads would erase a 30 mm
-// tag, 3 quads wide at 1280x1024, and 2 loses its edge quads), areas / 4 (at least 1),
-// tiles / 2 (at least 8).
+// Region parameters are given for a label image this wide; narrower ones scale them.
+constexpr int kRegionParamsWidth = 1280;
+// Below this share of kRegionParamsWidth the opening kernel is halved.
+constexpr double kKeepKernelRatio = 0.75;
+// Region parameters for a label image `label_width` px wide (r = width / 1280, at most 1):
+// kernel k / 2 below r = 0.75 (3 -> 1, i.e. off: a 3x3 opening erases a 30 mm tag of
+// ~4 px, and 2 loses its edge pixels), areas x r² (at least 1), tiles x r (at least 8).
+// Unchanged at 1280 px and wider.
+RegionParams labelParams(const RegionParams& params, int label_width);
+// Bayer quads of a 1280x1024 mosaic: labelParams(params, 640).
 RegionParams quadLabelParams(const RegionParams& image_pixels);
 
 struct SegmentationTimings {
@@ -74,8 +82,9 @@ class Segmenter {
 
  private:
   SegmentationParams params_;
+  RegionExtractor& extractorFor(int label_width);  // labelParams for this label width
   RegionExtractor extractor_;
-  RegionExtractor quad_extractor_;  // Bayer input: quadLabelParams(params_.regions)
+  int extractor_width_ = -1;  // label width extractor_ was made for (-1: params_.regions as given)
 };
 
 // Labels of every pixel (label resolution) with the same illumination offsets and

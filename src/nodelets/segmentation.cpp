@@ -21,6 +21,8 @@
 //                                     as captured: the paper's v' = v + k (v_ref - v_now).
 //   morph_kernel      int     3       (dr) Open + close with a k x k square per class; 0 = off.
 //   min_area          int     5       (dr) Smallest region kept [px of the label image].
+//                                     Region settings are for 1280-px-wide label images;
+//                                     narrower ones scale them (labelParams, segmenter.h).
 //   max_area          int     20000   (dr) Largest region kept [px of the label image].
 //   max_regions_per_class int 64      (dr) Cap per class and frame; the excess is dropped and
 //                                     counted in BlobArray.cap_hits.

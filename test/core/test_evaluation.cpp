@@ -173,9 +173,10 @@ struct Rendered {
   std::vector<FrameRecord> truth;
 };
 
-Rendered render(const std::string& preset, int frames) {
+Rendered render(const std::string& preset, int frames, cv::Size size = {}) {
   Rendered r;
   r.scenario = loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/" + preset + ".yaml");
+  if (!size.empty()) r.scenario.width = size.width, r.scenario.height = size.height;
   const FieldGeometry field;
   r.patterns = patternSetByName(r.scenario.pattern);
   r.camera = CameraModel::defaultCamera(field, 0, r.scenario.width, r.scenario.height);
@@ -256,6 +257,13 @@ void expectTargets(const char* preset, const RunFigures& fig) {
 TEST(VisionPipeline, MeetsTheTargetsOnEvenStatic) { expectTargets("even_static", runPipeline(render("even_static", 180))); }
 TEST(VisionPipeline, MeetsTheTargetsOnUnevenDrift) { expectTargets("uneven_drift", runPipeline(render("uneven_drift", 180))); }
 TEST(VisionPipeline, MeetsTheTargetsOnSslPattern) { expectTargets("ssl_pattern", runPipeline(render("ssl_pattern", 180))); }
+
+// ssl-vision's classic 780x580 and a 640x512 camera over the same half field: the markers
+// are 60 % / 50 % the size in pixels (labelParams scales the region parameters).
+TEST(VisionPipeline, MeetsTheTargetsAtLowerResolutions) {
+  expectTargets("uneven_drift 780x580", runPipeline(render("uneven_drift", 120, {780, 580})));
+  expectTargets("uneven_drift 640x512", runPipeline(render("uneven_drift", 120, {640, 512})));
+}
 
 TEST(VisionPipeline, IsDeterministicAndHonoursFrameStepAndWindows) {
   const Rendered r = render("uneven_drift", 60);
