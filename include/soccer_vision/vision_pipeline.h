@@ -62,7 +62,9 @@ struct PipelineFrame {
   double stamp = 0;
   bool processed = false;       // false: skipped by frame_step (nothing else is set)
   bool global_search = true;    // this frame was searched whole
-  GlobalSearchReason search_reason = GlobalSearchReason::First;  // None: windows
+  // Why it was searched whole (None: in windows; Periodic for every frame when search
+  // windows are off; AfterReset when the windows were stale: a gap in the stamps).
+  GlobalSearchReason search_reason = GlobalSearchReason::First;
   std::size_t windows = 0;      // rectangles searched (windows + entry bands)
   PipelineTimings times;
   CameraFrameDetections detections;
