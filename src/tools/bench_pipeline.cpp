@@ -26,6 +26,7 @@
 
 #include "soccer_vision/field_renderer.h"
 #include "soccer_vision/game_simulator.h"
+#include "soccer_vision/sample_statistics.h"
 #include "soccer_vision/synthetic_calibration.h"
 #include "soccer_vision/vision_pipeline.h"
 
@@ -66,11 +67,6 @@ std::string presetPath(const std::string& name) {
 }
 
 double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
-
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
-}
 
 }  // namespace
 
@@ -130,9 +126,9 @@ int main(int argc, char** argv) {
                            {"windowed_fraction", static_cast<double>(windowed) / o.frames}};
     for (const char* stage : {"preprocessing", "classification", "recognition", "tracking", "total"}) {
       const auto& v = t[stage];
-      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage, percentile(v, 0.5), percentile(v, 0.99),
+      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage, sv::percentile(v, 50), sv::percentile(v, 99),
                   *std::max_element(v.begin(), v.end()));
-      json[stage] = {{"p50_ms", percentile(v, 0.5)}, {"p99_ms", percentile(v, 0.99)},
+      json[stage] = {{"p50_ms", sv::percentile(v, 50)}, {"p99_ms", sv::percentile(v, 99)},
                      {"max_ms", *std::max_element(v.begin(), v.end())}};
     }
     if (!o.json.empty()) {

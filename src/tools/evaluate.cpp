@@ -61,6 +61,7 @@
 #include "soccer_vision/evaluation.h"
 #include "soccer_vision/evaluation_plots.h"
 #include "soccer_vision/result_recording.h"
+#include "soccer_vision/sample_statistics.h"
 #include "soccer_vision/ros/bag_frames.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/vision_pipeline.h"
@@ -328,12 +329,6 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : sum / v.size();
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
-}
-
 json scoreJson(const sv::RunEvaluation& e) {
   const sv::Score& s = e.total();
   const auto ratio = [](std::int64_t a, std::int64_t b) { return b > 0 ? static_cast<double>(a) / b : 1.0; };
@@ -365,7 +360,7 @@ json stageJson(const RunStats& s) {
       {"preprocessing", &s.preprocessing}, {"classification", &s.classification},
       {"recognition_and_pose", &s.recognition}, {"tracking", &s.tracking}, {"total", &s.total}};
   for (const auto& [name, v] : stages) {
-    j[name] = {{"mean_ms", mean(*v)}, {"p50_ms", percentile(*v, 0.5)}, {"p99_ms", percentile(*v, 0.99)}};
+    j[name] = {{"mean_ms", mean(*v)}, {"p50_ms", sv::percentile(*v, 50)}, {"p99_ms", sv::percentile(*v, 99)}};
   }
   return j;
 }
@@ -555,8 +550,8 @@ int evaluateBag(const Options& o) {
   if (setup.truth) sv::printScore(report);
   std::printf("speed:  %.0f frames/s in-process (%.3f ms mean, p50 %.3f, p99 %.3f ms per frame), %lld global-search "
               "frames, %lld in windows\n",
-              main.processed / main.seconds, mean(main.total), percentile(main.total, 0.5),
-              percentile(main.total, 0.99), static_cast<long long>(main.global), static_cast<long long>(main.windowed));
+              main.processed / main.seconds, mean(main.total), sv::percentile(main.total, 50),
+              sv::percentile(main.total, 99), static_cast<long long>(main.global), static_cast<long long>(main.windowed));
 
   if (o.table2) {
     sv::VisionPipelineParams whole = params;
