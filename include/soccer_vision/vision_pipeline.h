@@ -3,8 +3,8 @@
 // -> search windows back to Segmentation), frame by frame, deterministically: results
 // depend on the images and their stamps only, never on the clock. The offline evaluation
 // and the pipeline benchmark run it; it makes the same decisions as the nodelets with the
-// same parameters (frame_step per camera, global search policy per camera, windows for
-// the next processed frame at stamp + the camera's mean processed interval, entry bands).
+// same parameters (frame_step per camera; per camera a SearchPlanner, as in the Tracking
+// nodelet; windows older than the Segmentation nodelet's window_max_age are stale).
 //
 // Per camera frame: process(camera, image, stamp) -> PipelineFrame (skipped by frame_step,
 // or: the detections, the tracker output at the stamp, how the frame was searched and the
@@ -12,6 +12,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -21,9 +22,8 @@
 #include "soccer_vision/field_geometry.h"
 #include "soccer_vision/frame_identification.h"
 #include "soccer_vision/frame_step.h"
-#include "soccer_vision/global_search_policy.h"
 #include "soccer_vision/robot_pattern.h"
-#include "soccer_vision/search_windows.h"
+#include "soccer_vision/search_planner.h"
 #include "soccer_vision/segmenter.h"
 #include "soccer_vision/tracker.h"
 
@@ -31,10 +31,7 @@ namespace soccer_vision {
 
 struct VisionPipelineParams {
   int frame_step = 1;           // process every n-th frame of each camera (>= 1)
-  bool search_windows = true;   // false: every processed frame is searched whole
-  int entry_band_px = 48;       // bands along the image borders searched with the windows
-  SearchWindowParams windows;   // windows.side_px = R
-  GlobalSearchParams global_search;
+  SearchPlannerParams search;   // windows (search.windows.side_px = R), entry bands, policy
   SegmentationParams segmentation;
   IdentificationParams identification;
   TrackerParams tracker;
@@ -94,16 +91,12 @@ class VisionPipeline {
  private:
   struct CameraState {
     CameraState(FrameIdentifier id, const VisionPipelineParams& p)
-        : identifier(std::move(id)), frame_step(p.frame_step), policy(p.global_search) {}
+        : identifier(std::move(id)), frame_step(p.frame_step), planner(p.search) {}
     FrameIdentifier identifier;
     FrameStep frame_step;
-    GlobalSearchPolicy policy;
-    std::vector<cv::Rect> windows;  // for the next processed frame; empty = global
-    GlobalSearchReason next_reason = GlobalSearchReason::First;
-    double last_stamp = 0, interval = 0;  // processed frames, like the Tracking nodelet
+    SearchPlanner planner;
+    std::optional<SearchPlan> next;  // for the next processed frame; none before the first
   };
-
-  void planNextFrame(std::size_t index, double stamp);
 
   std::vector<PipelineCamera> cameras_;
   VisionPipelineParams params_;

@@ -22,9 +22,7 @@ constexpr double kWindowMaxAge = 0.5;  // [s]
 
 void validate(const VisionPipelineParams& p) {
   if (p.frame_step < 1) throw std::invalid_argument("frame_step must be >= 1");
-  if (p.entry_band_px < 0) throw std::invalid_argument("entry_band_px must be >= 0");
-  if (p.global_search.period_frames < 0) throw std::invalid_argument("global_search.period_frames must be >= 0");
-  validate(p.windows);
+  validate(p.search);
   validate(p.tracker);
 }
 
@@ -61,11 +59,13 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   if (!state.frame_step.process()) return frame;
   frame.processed = true;
 
-  const bool stale = state.last_stamp > 0 && stamp - (state.last_stamp + state.interval) > kWindowMaxAge;
+  // No plan yet: the first frame is searched whole; a plan for a much older stamp is stale.
+  const bool stale = state.next && stamp - state.next->stamp > kWindowMaxAge;
   static const std::vector<cv::Rect> kWhole;
-  const std::vector<cv::Rect>& windows = stale ? kWhole : state.windows;
-  frame.search_reason = stale && state.next_reason == GlobalSearchReason::None ? GlobalSearchReason::AfterReset
-                                                                                 : state.next_reason;
+  const std::vector<cv::Rect>& windows = state.next && !stale ? state.next->rects : kWhole;
+  frame.search_reason = !state.next                                               ? GlobalSearchReason::First
+                        : stale && state.next->reason == GlobalSearchReason::None ? GlobalSearchReason::AfterReset
+                                                                                  : state.next->reason;
 
   const auto t0 = Clock::now();
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_);
@@ -78,18 +78,11 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   const TrackerUpdateReport report = tracker_.update(frame.detections);
   frame.tracker_reset = report.reset();
   if (report.reset()) {
-    for (CameraState& s : state_) s.policy.restart();
+    for (CameraState& s : state_) s.planner.restart();
   }
-  state.policy.observe(report);
+  state.planner.observe(report, stamp);
   frame.output = tracker_.output(stamp);
-  if (report.processed()) {
-    if (state.last_stamp > 0 && stamp > state.last_stamp) {
-      const double dt = stamp - state.last_stamp;
-      state.interval = state.interval > 0 ? 0.9 * state.interval + 0.1 * dt : dt;
-    }
-    state.last_stamp = stamp;
-  }
-  planNextFrame(index, stamp);
+  state.next = state.planner.plan(tracker_, &camera.model, stamp);
   const auto t2 = Clock::now();
 
   const SegmentationTimings& s = segmented_.timings;
@@ -99,25 +92,6 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   frame.times.recognition = std::max(0.0, ms(t0, t1) - s.illumination_ms - s.classification_ms);
   frame.times.tracking = ms(t1, t2);
   return frame;
-}
-
-// The windows for this camera's next processed frame, as the Tracking nodelet publishes them.
-void VisionPipeline::planNextFrame(std::size_t index, double stamp) {
-  CameraState& state = state_[index];
-  const PipelineCamera& camera = cameras_[index];
-  const double interval = state.interval > 0 ? state.interval : 1.0 / 60;
-  std::vector<SearchWindow> next;
-  if (params_.search_windows) {
-    next = searchWindows(tracker_.output(stamp + interval), camera.model, interval, params_.windows);
-  }
-  const GlobalSearchReason reason = state.policy.decide(next, tracker_.numRobotTracks() + tracker_.numBallTracks());
-  state.windows.clear();
-  state.next_reason = params_.search_windows ? reason : GlobalSearchReason::Periodic;
-  if (!params_.search_windows || reason != GlobalSearchReason::None) return;
-  state.windows = windowRects(next);
-  for (const cv::Rect& band : entryBands(cv::Size(camera.model.width(), camera.model.height()), params_.entry_band_px)) {
-    state.windows.push_back(band);
-  }
 }
 
 }  // namespace soccer_vision

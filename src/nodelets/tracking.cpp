@@ -67,14 +67,14 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/TrackingConfig.h"
-#include "soccer_vision/global_search_policy.h"
 #include "soccer_vision/result_recording.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/field_markers.h"
 #include "soccer_vision/ros/transforms.h"
-#include "soccer_vision/search_windows.h"
+#include "soccer_vision/sample_statistics.h"
+#include "soccer_vision/search_planner.h"
 #include "soccer_vision/tracker.h"
 
 namespace soccer_vision {
@@ -123,13 +123,6 @@ BallPoseArray toBallPoseArray(const TrackerOutput& out, const std_msgs::Header& 
   return msg;
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * (v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 }  // namespace
 
 class TrackingNodelet : public nodelet::Nodelet {
@@ -141,8 +134,7 @@ class TrackingNodelet : public nodelet::Nodelet {
     sensor_msgs::CameraInfoConstPtr info;
     std::optional<CameraModel> model;  // built from info + tf when first needed
     bool model_stale = true;
-    GlobalSearchPolicy policy;
-    double last_stamp = 0, interval = 0;  // [s] EMA of the time between frames
+    SearchPlanner planner;  // the next frame's windows or global search
     int camera_id = -1;
     std::optional<double> measurement_offset;  // [s] ~measurement_offsets entry
   };
@@ -173,10 +165,8 @@ class TrackingNodelet : public nodelet::Nodelet {
   std::mutex mutex_;  // the tracker, the cameras' state, the settings and statistics below
   Tracker tracker_;
   TrackerParams tracker_params_;
-  SearchWindowParams window_params_;
-  GlobalSearchParams policy_params_;
-  bool use_windows_ = true, show_windows_ = false;
-  int entry_band_px_ = 48;
+  SearchPlannerParams search_params_;
+  bool show_windows_ = false;
   MarkerStyle marker_style_;
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> updater_;
@@ -244,7 +234,7 @@ void TrackingNodelet::onInit() {
                       offsets[index], ns.c_str());
       }
     }
-    camera->policy = GlobalSearchPolicy(policy_params_);
+    camera->planner = SearchPlanner(search_params_);
     Camera* c = camera.get();
     camera->windows_pub = nh.advertise<SearchWindows>(ns + "/search_windows", 2);
     camera->info_sub = nh.subscribe<sensor_msgs::CameraInfo>(
@@ -268,11 +258,18 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
     NODELET_ERROR("tracking parameters: %s; keeping the previous ones", e.what());
     tracker_params_ = tracker_.params();
   }
-  window_params_.side_px = config.window_side;
-  entry_band_px_ = config.entry_band;
-  policy_params_.period_frames = config.global_search_period;
-  for (auto& c : cameras_) c->policy.setParams(policy_params_);
-  use_windows_ = config.search_windows;
+  SearchPlannerParams search = search_params_;
+  search.windows.side_px = config.window_side;
+  search.entry_band_px = config.entry_band;
+  search.global_search.period_frames = config.global_search_period;
+  search.search_windows = config.search_windows;
+  try {
+    for (auto& c : cameras_) c->planner.setParams(search);
+    search_params_ = search;
+  } catch (const std::exception& e) {  // the cfg's ranges make this unexpected
+    NODELET_ERROR("search window parameters: %s; keeping the previous ones", e.what());
+    for (auto& c : cameras_) c->planner.setParams(search_params_);
+  }
   show_windows_ = config.show_windows;
 }
 
@@ -330,9 +327,9 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     if (report.reset()) {
       NODELET_WARN("tracker reset: %s of the stamps (camera %d, %.3f s)", timeEventName(report.time.event),
                    frame.camera_id, frame.stamp);
-      for (auto& c : cameras_) c->policy.restart();
+      for (auto& c : cameras_) c->planner.restart();
     }
-    camera.policy.observe(report);
+    camera.planner.observe(report, frame.stamp);
     if (!report.processed()) return;  // late or invalid frame: nothing new to publish
     out = tracker_.output(frame.stamp);
     *robots = toRobotPoseArray(out, header);
@@ -341,11 +338,6 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     ++frames_;
     ++window_frames_;
     (msg->global_search ? global_frames_ : windowed_frames_)++;
-    if (camera.last_stamp > 0 && frame.stamp > camera.last_stamp) {
-      const double dt = frame.stamp - camera.last_stamp;
-      camera.interval = camera.interval > 0 ? 0.9 * camera.interval + 0.1 * dt : dt;
-    }
-    camera.last_stamp = frame.stamp;
     publishWindows(camera, header, frame.stamp);
     if (results_) {
       try {
@@ -368,23 +360,15 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
 
 // The windows for this camera's next frame (mutex held).
 void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& header, double stamp) {
-  const double interval = camera.interval > 0 ? camera.interval : 1.0 / 60;
+  const CameraModel* model = search_params_.search_windows ? cameraModel(camera) : nullptr;
+  if (search_params_.search_windows && !model) ++no_camera_model_;
+  const SearchPlan plan = camera.planner.plan(tracker_, model, stamp);
   auto msg = boost::make_shared<SearchWindows>();
   msg->header = header;
-  msg->header.stamp.fromSec(stamp + interval);  // the frame these predictions are for
+  msg->header.stamp.fromSec(plan.stamp);  // the frame these predictions are for
   msg->camera_id = static_cast<std::uint8_t>(std::clamp(camera.camera_id, 0, 255));
-  const CameraModel* model = use_windows_ ? cameraModel(camera) : nullptr;
-  std::vector<SearchWindow> windows;
-  if (model) windows = searchWindows(tracker_.output(stamp + interval), *model, interval, window_params_);
-  else if (use_windows_) ++no_camera_model_;
-  const GlobalSearchReason reason =
-      camera.policy.decide(windows, tracker_.numRobotTracks() + tracker_.numBallTracks());
-  msg->global_search = !model || reason != GlobalSearchReason::None;
-  if (!msg->global_search) {
-    for (const SearchWindow& w : windows) msg->windows.push_back(toRegionOfInterest(w.rect));
-    for (const cv::Rect& band : entryBands(cv::Size(model->width(), model->height()), entry_band_px_))
-      msg->windows.push_back(toRegionOfInterest(band));
-  }
+  msg->global_search = plan.global_search;
+  for (const cv::Rect& r : plan.rects) msg->windows.push_back(toRegionOfInterest(r));
   camera.windows_pub.publish(msg);
   if (show_windows_ && model) publishWindowMarkers(*model, *msg);
 }
@@ -397,7 +381,7 @@ void TrackingNodelet::publishWindowMarkers(const CameraModel& model, const Searc
     std::vector<Eigen::Vector3d> outline;
     for (const Eigen::Vector2d& corner : {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0), Eigen::Vector2d(x1, y1),
                                           Eigen::Vector2d(x0, y1)}) {
-      if (const auto p = model.pixelToField(corner, window_params_.robot_height)) outline.push_back(*p);
+      if (const auto p = model.pixelToField(corner, search_params_.windows.robot_height)) outline.push_back(*p);
     }
     if (outline.size() == 4) outlines.push_back(std::move(outline));
   }
@@ -435,8 +419,8 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   mean /= std::max<std::size_t>(latencies_ms_.size(), 1);
   stat.add("rate [Hz]", window_frames_ / seconds);
   stat.add("latency capture -> publish mean [ms]", mean);
-  stat.add("latency p50 [ms]", percentile(latencies_ms_, 0.5));
-  stat.add("latency p99 [ms]", percentile(latencies_ms_, 0.99));
+  stat.add("latency p50 [ms]", percentile(latencies_ms_, 50));
+  stat.add("latency p99 [ms]", percentile(latencies_ms_, 99));
   stat.add("robot tracks", tracker_.numRobotTracks());
   stat.add("ball tracks", tracker_.numBallTracks());
   const TrackerStats& s = tracker_.stats();

@@ -507,8 +507,8 @@ int evaluateBag(const Options& o) {
 
   sv::VisionPipelineParams params;
   params.frame_step = o.frame_step;
-  params.windows.side_px = o.window_side;
-  params.search_windows = o.windows;
+  params.search.windows.side_px = o.window_side;
+  params.search.search_windows = o.windows;
   for (std::size_t i = 0; i < o.measurement_offsets.size(); ++i) {
     if (o.measurement_offsets.size() == 1) params.tracker.measurement_offset = o.measurement_offsets[i];
     else if (i < setup.cameras.size()) params.tracker.camera_measurement_offsets[setup.cameras[i].id] = o.measurement_offsets[i];
@@ -555,7 +555,7 @@ int evaluateBag(const Options& o) {
 
   if (o.table2) {
     sv::VisionPipelineParams whole = params;
-    whole.search_windows = !o.windows;
+    whole.search.search_windows = !o.windows;
     const RunStats other = run(setup, whole, nullptr);
     const json with = o.windows ? stageJson(main) : stageJson(other);
     const json without = o.windows ? stageJson(other) : stageJson(main);
@@ -571,8 +571,8 @@ int evaluateBag(const Options& o) {
       for (int side : {50, 100, 200, 400}) {
         sv::VisionPipelineParams p = params;
         p.frame_step = step;
-        p.windows.side_px = side;
-        p.search_windows = true;
+        p.search.windows.side_px = side;
+        p.search.search_windows = true;
         sweep_runs.push_back(std::make_unique<RunStats>(run(setup, p, nullptr)));
         json row = runSummary(*sweep_runs.back());
         row["frame_step"] = step;

@@ -283,7 +283,7 @@ TEST(VisionPipeline, IsDeterministicAndHonoursFrameStepAndWindows) {
   EXPECT_GT(s.evaluation.predictionRmse(), a.evaluation.predictionRmse());
 
   VisionPipelineParams whole;
-  whole.search_windows = false;
+  whole.search.search_windows = false;
   const RunFigures w = runPipeline(r, whole);
   EXPECT_EQ(w.global, 60);
   EXPECT_GE(w.evaluation.total().robotDetectionRate(), 0.999);
