@@ -10,6 +10,7 @@
 //    presets, scored against the simulator's truth (scoring.h).
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,13 +19,12 @@
 #include "soccer_vision/field_renderer.h"
 #include "soccer_vision/frame_identification.h"
 #include "soccer_vision/game_simulator.h"
-#include "soccer_vision/global_search_policy.h"
 #include "soccer_vision/result_recording.h"
 #include "soccer_vision/scoring.h"
-#include "soccer_vision/search_windows.h"
 #include "soccer_vision/segmenter.h"
 #include "soccer_vision/synthetic_calibration.h"
 #include "soccer_vision/tracker.h"
+#include "soccer_vision/vision_pipeline.h"
 
 using namespace soccer_vision;
 
@@ -37,6 +37,38 @@ constexpr double kExposure = 0.004;
 ScenarioConfig preset(const std::string& name) {
   return loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/" + name + ".yaml");
 }
+
+// One default camera over a preset: renderer, colour table calibrated like the demo's,
+// identification and the game, as the tests of rendered frames below need them.
+struct PresetRig {
+  explicit PresetRig(const std::string& name)
+      : scenario(preset(name)),
+        patterns(patternSetByName(scenario.pattern)),
+        camera(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height)),
+        renderer(camera, field, patterns, scenario),
+        model(SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, 0)))),
+        identifier(camera, patterns, field),
+        sim(scenario, field, patterns.maxRobotsPerTeam()) {}
+
+  // Renders the simulator's current state as frame k and segments it whole.
+  CameraFrameDetections detectWhole(int k) {
+    RenderedFrame frame;
+    renderer.render(sim.state(), k, frame);
+    segmenter.process(*model, frame.image, PixelLayout::Bgr, {}, segmented);
+    return identifier.identify(segmented.regions, k * kDt);
+  }
+
+  const ScenarioConfig scenario;
+  const FieldGeometry field;
+  const PatternSet patterns;
+  const CameraModel camera;
+  const FieldRenderer renderer;
+  const std::shared_ptr<const SegmentationModel> model;
+  const FrameIdentifier identifier;
+  Segmenter segmenter;
+  SegmentationResult segmented;
+  GameSimulator sim;
+};
 
 RobotDetection robotAt(double x, double y) {
   RobotDetection d;
@@ -178,28 +210,17 @@ TEST(Maneuver, JumpsBeyondAVelocityChangesReachAreStillRejected) {
 
 TEST(BlurredCalibration, FastBallStreakIsFoundAtItsMidExposurePosition) {
   // fast_motion: kicked up to 15 m/s, a 4 ms exposure: a 43 mm ball smeared over 60 mm.
-  const ScenarioConfig scenario = preset("fast_motion");
-  const FieldGeometry field;
-  const PatternSet patterns = patternSetByName(scenario.pattern);
-  const CameraModel camera = CameraModel::defaultCamera(field, 0, scenario.width, scenario.height);
-  const FieldRenderer renderer(camera, field, patterns, scenario);
-  const auto model = SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, 0)));
-  const FrameIdentifier identifier(camera, patterns, field);
-  Segmenter segmenter;
-  SegmentationResult segmented;
-  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  PresetRig rig("fast_motion");
+  GameSimulator& sim = rig.sim;
   int fast = 0, found = 0;
   double sq = 0;
   for (int k = 0; k < 600; ++k, sim.step(kDt)) {
     if (k % 3) continue;
     const BallState& truth = sim.state().balls.front();
     const double speed = std::hypot(truth.vx, truth.vy);
-    if (speed < 8.0 || !renderer.ballVisible(truth)) continue;
-    RenderedFrame frame;
-    renderer.render(sim.state(), k, frame);
-    segmenter.process(*model, frame.image, PixelLayout::Bgr, {}, segmented);
-    const CameraFrameDetections d = identifier.identify(segmented.regions, k * kDt);
-    const BallState mid = extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)).balls.front();
+    if (speed < 8.0 || !rig.renderer.ballVisible(truth)) continue;
+    const CameraFrameDetections d = rig.detectWhole(k);
+    const BallState mid = extrapolate(sim.state(), shownTimeAfterStamp(rig.scenario.sensor)).balls.front();
     ++fast;
     for (const BallDetection& b : d.balls) {
       const double e = std::hypot(b.x - mid.x, b.y - mid.y);
@@ -220,28 +241,17 @@ TEST(BlurredCalibration, FastBallStreakIsFoundAtItsMidExposurePosition) {
 // Robots at 3-5 m/s under a 4 ms exposure: their 40 mm role discs are smeared by 12-20 mm,
 // only the fully covered core keeps the role colour (a fraction of the expected area).
 TEST(BlurredIdentification, FastRobotsAreIdentifiedAtTheirMidExposurePose) {
-  const ScenarioConfig scenario = preset("fast_motion");
-  const FieldGeometry field;
-  const PatternSet patterns = patternSetByName(scenario.pattern);
-  const CameraModel camera = CameraModel::defaultCamera(field, 0, scenario.width, scenario.height);
-  const FieldRenderer renderer(camera, field, patterns, scenario);
-  const auto model = SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, 0)));
-  const FrameIdentifier identifier(camera, patterns, field);
-  Segmenter segmenter;
-  SegmentationResult segmented;
-  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  PresetRig rig("fast_motion");
+  GameSimulator& sim = rig.sim;
   int fast = 0, found = 0;
   double sq = 0, sq_at_stamp = 0;
   for (int k = 0; k < 600; ++k, sim.step(kDt)) {
     if (k % 2) continue;
-    RenderedFrame frame;
-    renderer.render(sim.state(), k, frame);
-    segmenter.process(*model, frame.image, PixelLayout::Bgr, {}, segmented);
-    const CameraFrameDetections d = identifier.identify(segmented.regions, k * kDt);
-    const SceneState mid = extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor));
+    const CameraFrameDetections d = rig.detectWhole(k);
+    const SceneState mid = extrapolate(sim.state(), shownTimeAfterStamp(rig.scenario.sensor));
     for (std::size_t i = 0; i < mid.robots.size(); ++i) {
       const RobotState& r = mid.robots[i];
-      if (std::hypot(r.vx, r.vy) < 3.0 || !renderer.robotVisible(sim.state().robots[i])) continue;
+      if (std::hypot(r.vx, r.vy) < 3.0 || !rig.renderer.robotVisible(sim.state().robots[i])) continue;
       ++fast;
       for (const RobotDetection& det : d.robots) {
         if (det.team != r.team || det.id != r.id) continue;
@@ -265,46 +275,33 @@ TEST(BlurredIdentification, FastRobotsAreIdentifiedAtTheirMidExposurePose) {
 
 namespace {
 
-// The in-process pipeline of one camera over a preset (bench_pipeline's loop), scored
-// against the simulator's truth at every capture stamp after the first 30 frames.
-Score runPipeline(const ScenarioConfig& scenario, int frames) {
-  const FieldGeometry field;
-  const PatternSet patterns = patternSetByName(scenario.pattern);
-  const CameraModel camera = CameraModel::defaultCamera(field, 0, scenario.width, scenario.height);
-  const FieldRenderer renderer(camera, field, patterns, scenario);
-  const PixelLayout layout =
+// The in-process pipeline of one camera over a preset (VisionPipeline: windows fed back,
+// as in the nodelets), scored against the simulator's truth at every capture stamp after
+// the first 30 frames.
+Score runPipeline(const std::string& name, int frames) {
+  PresetRig rig(name);
+  const ScenarioConfig& scenario = rig.scenario;
+  PipelineCamera camera;
+  camera.model = rig.camera;
+  camera.segmentation = rig.model;
+  camera.layout =
       scenario.sensor.bayer.empty() ? PixelLayout::Bgr : *pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
-  const auto model = SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, 0)));
-  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
-  Segmenter segmenter;
-  SegmentationResult segmented;
-  const FrameIdentifier identifier(camera, patterns, field);
-  TrackerParams params;
-  params.measurement_offset = shownTimeAfterStamp(scenario.sensor);
-  Tracker tracker(params);
-  GlobalSearchPolicy policy;
+  VisionPipelineParams params;
+  params.tracker.measurement_offset = shownTimeAfterStamp(scenario.sensor);
+  VisionPipeline pipeline({camera}, rig.patterns, rig.field, params);
   const double interval = 1.0 / scenario.fps;
-  std::vector<cv::Rect> windows;
   Score total;
-  for (int i = 0; i < frames; ++i, sim.step(interval)) {
-    const SceneState& s = sim.state();
+  for (int i = 0; i < frames; ++i, rig.sim.step(interval)) {
+    const SceneState& s = rig.sim.state();
     RenderedFrame f;
-    renderer.render(s, i, f);
-    segmenter.process(*model, f.image, layout, windows, segmented);
-    const TrackerUpdateReport report = tracker.update(identifier.identify(segmented.regions, s.time, 0, segmented.global_search));
-    policy.observe(report);
-    const std::vector<SearchWindow> next = searchWindows(tracker.output(s.time + interval), camera, interval);
-    windows.clear();
-    if (policy.decide(next, tracker.numRobotTracks() + tracker.numBallTracks()) == GlobalSearchReason::None) {
-      windows = windowRects(next);
-      for (const cv::Rect& band : entryBands(cv::Size(camera.width(), camera.height()), 48)) windows.push_back(band);
-    }
+    rig.renderer.render(s, i, f);
+    const PipelineFrame out = pipeline.process(0, f.image, s.time);
     if (i < 30) continue;
     FrameRecord truth;
     truth.stamp = s.time;
-    for (const RobotState& r : s.robots) truth.robots.push_back({r.team, r.id, r.x, r.y, r.theta, renderer.robotVisible(r), {}});
-    for (const BallState& b : s.balls) truth.balls.push_back({b.x, b.y, renderer.ballVisible(b), {}});
-    total.add(scoreFrame(truth, toFrameRecord(tracker.output(s.time))));
+    for (const RobotState& r : s.robots) truth.robots.push_back({r.team, r.id, r.x, r.y, r.theta, rig.renderer.robotVisible(r), {}});
+    for (const BallState& b : s.balls) truth.balls.push_back({b.x, b.y, rig.renderer.ballVisible(b), {}});
+    total.add(scoreFrame(truth, toFrameRecord(out.output)));
   }
   std::printf("%s, %d frames: robots %.2f %% found, %.2f %% precise, %ld identity errors, RMSE %.2f mm, heading "
               "%.2f deg; ball %.2f %% / %.2f %%, RMSE %.1f mm\n",
@@ -322,7 +319,7 @@ Score runPipeline(const ScenarioConfig& scenario, int frames) {
 // through, stamps taken as measurement times, ball calibrated on its streak's tail);
 // flicker_noise 97.2 % / 97.9 % (6 calibration frames).
 TEST(PresetPipeline, FastMotion) {
-  const Score s = runPipeline(preset("fast_motion"), 600);
+  const Score s = runPipeline("fast_motion", 600);
   EXPECT_GE(s.robotDetectionRate(), 0.997);
   EXPECT_GE(s.robotPrecision(), 0.999);
   EXPECT_EQ(s.identity_errors, 0);
@@ -332,7 +329,7 @@ TEST(PresetPipeline, FastMotion) {
 }
 
 TEST(PresetPipeline, FlickerNoise) {
-  const Score s = runPipeline(preset("flicker_noise"), 600);
+  const Score s = runPipeline("flicker_noise", 600);
   EXPECT_GE(s.robotDetectionRate(), 0.997);
   EXPECT_GE(s.robotPrecision(), 0.999);
   EXPECT_EQ(s.identity_errors, 0);
