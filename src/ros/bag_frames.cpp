@@ -124,23 +124,25 @@ std::size_t BagFrames::forEachImage(const std::vector<int>& camera_ids, const Im
   return visited;
 }
 
-cv::Mat BagFrames::image(int camera_id, std::size_t index, PixelLayout* layout) const {
+std::map<std::size_t, BagFrames::Image> BagFrames::images(int camera_id, const std::set<std::size_t>& indices) const {
+  std::map<std::size_t, Image> out;
   const BagCamera* c = camera(camera_id);
-  if (!c) return {};
+  if (!c || indices.empty()) return out;
   rosbag::View view(*bag_, rosbag::TopicQuery(c->ns + kImageSuffix));
   std::size_t k = 0;
   for (const rosbag::MessageInstance& m : view) {
-    if (k++ != index) continue;
+    const std::size_t index = k++;
+    if (index > *indices.rbegin()) break;
+    if (!indices.count(index)) continue;
     const auto msg = m.instantiate<sensor_msgs::Image>();
-    if (!msg) return {};
-    const std::optional<PixelLayout> l = pixelLayoutForEncoding(msg->encoding);
-    if (!l.has_value()) return {};
-    const cv::Mat image = imageView(*msg, l.value());
-    if (image.empty()) return {};
-    if (layout) *layout = l.value();
-    return image.clone();
+    if (!msg) continue;
+    const std::optional<PixelLayout> layout = pixelLayoutForEncoding(msg->encoding);
+    if (!layout.has_value()) continue;
+    const cv::Mat view_of_msg = imageView(*msg, layout.value());
+    if (view_of_msg.empty()) continue;
+    out[index] = Image{view_of_msg.clone(), layout.value()};
   }
-  return {};
+  return out;
 }
 
 std::vector<FrameRecord> BagFrames::groundTruth() const {

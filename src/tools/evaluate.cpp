@@ -46,6 +46,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <sys/stat.h>
@@ -165,7 +166,6 @@ std::string cameraFile(const std::vector<std::string>& given, std::size_t index,
   return "";
 }
 
-// The colour table of one camera, given or calibrated like calibrate_colors does.
 // make_scenario's calibration samples of a camera beside the bag:
 // samples_camera_<n>_frame_<i>.yaml -> (i, path), by frame.
 std::map<std::size_t, std::string> calibrationSamplesBeside(const std::string& bag, int camera_id) {
@@ -181,17 +181,12 @@ std::map<std::size_t, std::string> calibrationSamplesBeside(const std::string& b
   return found;
 }
 
-// The colour table of one camera: given, or calibrated like calibrate_colors does from
-// samples on frames of the bag (their quad colours for Bayer: what the classifier reads).
-std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const sv::BagFrames& bag, std::size_t index,
-                                                        int camera_id) {
-  if (!o.colors.empty()) {
-    if (index >= o.colors.size()) throw std::invalid_argument("--colors has no entry for camera " + std::to_string(camera_id));
-    return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::ColorTable::load(o.colors[index])));
-  }
-  // Samples per bag frame: the ones given (on the first frame or the calibration image),
-  // else make_scenario's calibration frames, else its samples.yaml on the first frame.
+// The sample files of one camera by the bag frame they describe: the ones given (on the
+// first frame or the calibration image), else make_scenario's calibration frames, else its
+// samples.yaml on the first frame. Empty with --colors (no calibration).
+std::map<std::size_t, std::string> samplesByFrame(const Options& o, std::size_t index, int camera_id) {
   std::map<std::size_t, std::string> samples;
+  if (!o.colors.empty()) return samples;
   if (o.samples.empty()) samples = calibrationSamplesBeside(o.bag, camera_id);
   if (samples.empty()) {
     const std::string file = cameraFile(o.samples, index, "--samples", o.bag, "samples", ".yaml", camera_id);
@@ -200,6 +195,18 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const 
                                   "(--samples, or make_scenario's samples files beside the bag)");
     }
     samples[0] = file;
+  }
+  return samples;
+}
+
+// The colour table of one camera: given, or calibrated like calibrate_colors does from
+// samples on frames of the bag (their quad colours for Bayer: what the classifier reads).
+std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const std::map<std::size_t, std::string>& samples,
+                                                        const std::map<std::size_t, sv::BagFrames::Image>& frames,
+                                                        std::size_t index, int camera_id) {
+  if (!o.colors.empty()) {
+    if (index >= o.colors.size()) throw std::invalid_argument("--colors has no entry for camera " + std::to_string(camera_id));
+    return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::ColorTable::load(o.colors[index])));
   }
   std::vector<sv::CalibrationImage> images;
   std::string described;
@@ -213,13 +220,12 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const 
       image.bgr = cv::imread(o.calibration_images[index], cv::IMREAD_COLOR);
       if (image.bgr.empty()) throw std::invalid_argument(o.calibration_images[index] + ": cannot read image");
     } else {
-      sv::PixelLayout layout = sv::PixelLayout::Bgr;
-      const cv::Mat raw = bag.image(camera_id, frame, &layout);
-      if (raw.empty()) {
-        throw std::invalid_argument(bag.path() + ": camera " + std::to_string(camera_id) + " has no readable frame " +
+      const auto found = frames.find(frame);
+      if (found == frames.end()) {
+        throw std::invalid_argument(o.bag + ": camera " + std::to_string(camera_id) + " has no readable frame " +
                                     std::to_string(frame) + " for " + file);
       }
-      image.bgr = sv::classifiedColors(raw, layout);
+      image.bgr = sv::classifiedColors(found->second.pixels, found->second.layout);
     }
     images.push_back(std::move(image));
     described += (described.empty() ? "" : ", ") + std::to_string(frame);
@@ -496,10 +502,18 @@ int evaluateBag(const Options& o) {
     sv::PipelineCamera pc;
     pc.id = cameras[i]->id;
     pc.model = cameraModel(o, *cameras[i], i);
-    if (bag.image(pc.id, 0, &pc.layout).empty()) {
+    // The first frame (its layout) and the calibration frames, in one pass over the bag.
+    const std::map<std::size_t, std::string> samples = samplesByFrame(o, i, pc.id);
+    std::set<std::size_t> wanted{0};
+    if (o.calibration_images.empty()) {
+      for (const auto& entry : samples) wanted.insert(entry.first);
+    }
+    const std::map<std::size_t, sv::BagFrames::Image> frames = bag.images(pc.id, wanted);
+    if (!frames.count(0)) {
       throw std::invalid_argument(o.bag + ": camera " + std::to_string(pc.id) + "'s first image cannot be read");
     }
-    pc.segmentation = colorModel(o, bag, i, pc.id);
+    pc.layout = frames.at(0).layout;
+    pc.segmentation = colorModel(o, samples, frames, i, pc.id);
     setup.cameras.push_back(std::move(pc));
   }
   const sv::TruthTimeline truth(loadTruth(o, &bag));

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -54,9 +55,13 @@ class BagFrames {
   std::size_t forEachImage(const std::vector<int>& camera_ids, const ImageVisitor& visit,
                            BagImageProblems* problems = nullptr) const;
 
-  // The index-th image of a camera in recording order (a deep copy) and its layout; an
-  // empty Mat when there is no such image or it cannot be read.
-  cv::Mat image(int camera_id, std::size_t index, PixelLayout* layout = nullptr) const;
+  struct Image {
+    cv::Mat pixels;  // a deep copy
+    PixelLayout layout = PixelLayout::Bgr;
+  };
+  // The images of a camera at these indices in recording order, read in one pass over the
+  // bag; an index with no image, or one that cannot be read, is missing from the result.
+  std::map<std::size_t, Image> images(int camera_id, const std::set<std::size_t>& indices) const;
 
   // One FrameRecord per stamp from the ground-truth topics, merged over cameras: an object
   // is visible when any camera sees it. Empty when the bag has no ground truth.
