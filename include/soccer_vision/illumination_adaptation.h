@@ -36,15 +36,21 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step = 1
 // The blocks (of the image's block grid) that rectangles in image pixels overlap.
 cv::Mat1b blocksMeeting(const cv::Mat& image, PixelLayout layout, const std::vector<cv::Rect>& rects);
 
-// Light level per block: the mean V of the read pixels (as blockMeanV reads them) whose V
-// lies within [kLevelBandLow, kLevelBandHigh] x expected(b), i.e. the carpet, leaving out
-// robot tops (far darker), lines and most markers (far brighter). A block where fewer than
-// kMinLevelFraction of the read pixels fall in the band (covered by robots) gets
-// expected(b) x the median of level / expected over the other blocks (x 1 when there are
-// none). `expected`: CV_32FC1 of the image's block grid, positive. `selected` as for
-// blockMeanV: blocks left out are filled like covered ones. Throws std::invalid_argument
-// like blockMeanV, or for `expected` of another size or type.
-constexpr double kLevelBandLow = 0.7, kLevelBandHigh = 1.4, kMinLevelFraction = 0.25;
+// Light level per block. A block's reading: the mean V of the read pixels (as blockMeanV
+// reads them) whose V lies within [kLevelBandLow, kLevelBandHigh] x expected(b), i.e. the
+// carpet, leaving out robot tops (far darker), lines and most markers (far brighter); none
+// where fewer than kMinLevelFraction of the read pixels fall in the band (covered by
+// robots), clean where at least kCleanLevelFraction do. A clean reading is the block's
+// level. Where a robot half covers a block, the anti-aliased edges of its top and markers
+// are a good part of the pixels in the band (in a crowd: enough to push markers out of
+// their colour cells), so any other block gets expected(b) x the median of reading /
+// expected over the clean readings within kLevelNeighbourhood blocks, else over all
+// readings there, else over all blocks (x 1 when no block has a reading): the light is
+// smooth over a few blocks. `expected`: CV_32FC1 of the image's block grid, positive.
+// `selected` as for blockMeanV: blocks left out get the median over all read blocks.
+// Throws std::invalid_argument like blockMeanV, or for `expected` of another size or type.
+constexpr double kLevelBandLow = 0.7, kLevelBandHigh = 1.4, kMinLevelFraction = 0.25, kCleanLevelFraction = 0.75;
+constexpr int kLevelNeighbourhood = 1;
 cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step = 1,
                          const cv::Mat1b& selected = cv::Mat1b());
 // Expected levels for an image without prior knowledge (calibration): per block the

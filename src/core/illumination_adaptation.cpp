@@ -129,6 +129,7 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
   checkBlockMap(expected, grid, "blockLightLevels: the expected levels");
   checkSelection(selected, grid, "blockLightLevels");
   cv::Mat levels(grid.rows, grid.cols, CV_32FC1);
+  // 0: no reading (covered), 1: a reading, 2: a clean one (mostly carpet).
   cv::Mat1b measured(grid.rows, grid.cols, std::uint8_t(0));
   std::vector<float> ratios;
   std::vector<LabelRow> rows;
@@ -156,16 +157,42 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
       }
       const auto read = static_cast<std::uint32_t>(rows.size() * ((x1 - x0 + sample_step - 1) / sample_step));
       if (count > 0 && count >= kMinLevelFraction * read) {
-        measured(by, bx) = 1;
+        measured(by, bx) = count >= kCleanLevelFraction * read ? 2 : 1;
         out[bx] = static_cast<float>(static_cast<double>(sum) / count);
         ratios.push_back(out[bx] / e[bx]);
       }
     }
   }
+  // Where a robot takes much of a block, the edges of its top and markers are a good part of
+  // the pixels left in the band, and bias the block's reading; the light is smooth over a
+  // few blocks. A block without a clean reading of its own takes the median ratio to
+  // `expected` of the clean readings around it, else of all readings around it, else of
+  // all blocks.
   const float fill = ratios.empty() ? 1.0f : median(ratios);
+  cv::Mat1f ratio(grid.rows, grid.cols, 0.0f);
   for (int by = 0; by < grid.rows; ++by) {
     for (int bx = 0; bx < grid.cols; ++bx) {
-      if (!measured(by, bx)) levels.at<float>(by, bx) = fill * expected.at<float>(by, bx);
+      if (measured(by, bx)) ratio(by, bx) = levels.at<float>(by, bx) / expected.at<float>(by, bx);
+    }
+  }
+  std::vector<float> clean, any;
+  for (int by = 0; by < grid.rows; ++by) {
+    const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(by);
+    float* out = levels.ptr<float>(by);
+    for (int bx = 0; bx < grid.cols; ++bx) {
+      if (measured(by, bx) == 2) continue;
+      clean.clear();
+      any.clear();
+      if (!wanted || wanted[bx]) {
+        for (int j = std::max(0, by - kLevelNeighbourhood); j <= std::min(grid.rows - 1, by + kLevelNeighbourhood); ++j) {
+          for (int i = std::max(0, bx - kLevelNeighbourhood); i <= std::min(grid.cols - 1, bx + kLevelNeighbourhood); ++i) {
+            if (measured(j, i) == 2) clean.push_back(ratio(j, i));
+            if (measured(j, i)) any.push_back(ratio(j, i));
+          }
+        }
+      }
+      const float r = !clean.empty() ? median(clean) : !any.empty() ? median(any) : fill;
+      out[bx] = r * expected.at<float>(by, bx);
     }
   }
   return levels;
