@@ -20,6 +20,14 @@
 // covariance is widened as a velocity jump of std-dev maneuver_speed_change / 2 at the
 // last update would widen it, and the measurement corrects position and velocity at once
 // (instead of the track coasting on the old velocity for reinit_after_rejections frames).
+// Heading manoeuvres likewise: robots start and stop turning at once (0 to 8 rad/s within
+// a frame; the constant-ω prediction is then 0.13 rad off after one frame and 0.27 after
+// two, outside the heading gate, and the filter used to coast on the old ω for three
+// frames before restarting the heading: up to 28° of error). A heading outside the gate
+// but within maneuver_omega_change × (time since the last heading update) +
+// gate_min_angle of the prediction, and never more than π/2 off (a flipped pattern is π
+// off), is taken as an angular-velocity change: θ and ω are widened as an ω jump of
+// std-dev maneuver_omega_change / 2 at the last heading update would widen them.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,6 +50,8 @@ struct RobotFilterParams {
   int reinit_after_rejections = 3; // consecutive rejections that restart the filter (>= 1)
   double maneuver_speed_change = 8.0;  // [m/s] largest velocity change taken as a manoeuvre
                                        //       (a robot at 5 m/s stopped or bounced); 0 = off
+  double maneuver_omega_change = 16.0; // [rad/s] largest angular-velocity change taken as a
+                                       //   manoeuvre (a robot turning at 8 rad/s reversed); 0 = off
 };
 
 // Checks ranges; throws std::invalid_argument naming the parameter.
@@ -58,8 +68,10 @@ enum class GateResult {
   HeadingRejected,     // position used, heading discarded as outlier
   Rejected,            // whole measurement discarded as outlier
   Reinitialised,       // too many rejections in a row: restarted at the measurement
-  Maneuver             // outside the gate, within a manoeuvre's reach: position and velocity
-                       // corrected (heading as for Accepted / HeadingRejected)
+  Maneuver,            // outside the gate, within a manoeuvre's reach: position and velocity
+                       // corrected (heading as for Accepted / HeadingRejected / HeadingManeuver)
+  HeadingManeuver      // position accepted; heading outside its gate, within a turn manoeuvre's
+                       // reach: heading and angular velocity corrected
 };
 
 class RobotFilter {
@@ -99,6 +111,7 @@ class RobotFilter {
   int rejections_ = 0;
   int heading_rejections_ = 0;
   double since_update_ = 0;  // [s] predicted since the last accepted position
+  double since_heading_ = 0; // [s] predicted since the last heading used
 };
 
 }  // namespace soccer_vision

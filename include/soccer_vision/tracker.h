@@ -108,6 +108,7 @@ struct TrackerUpdateReport {
   int robot_outliers = 0;         // measurements rejected by the gate
   int heading_outliers = 0;       // position used, heading rejected
   int robot_maneuvers = 0;        // outside the gate, taken as a sudden velocity change
+  int heading_maneuvers = 0;      // heading outside its gate, taken as a sudden turn
   int robots_reinitialised = 0;   // restarted after consecutive rejections
   int duplicate_detections = 0;   // same identity twice in one frame
   int invalid_detections = 0;     // non-finite numbers
@@ -124,6 +125,7 @@ struct TrackerUpdateReport {
 struct TrackerStats {
   long frames = 0, dropped_frames = 0, resets = 0;
   long robot_outliers = 0, heading_outliers = 0, robots_reinitialised = 0, robot_maneuvers = 0;
+  long heading_maneuvers = 0;
   long ball_kicks = 0, tracks_created = 0, tracks_lost = 0;
 };
 

@@ -21,6 +21,9 @@ void requirePositive(double v, const char* name) {
 
 // Heading std-dev of a track started without a heading: any direction.
 constexpr double kUnknownHeadingSigma = M_PI;
+// Largest heading innovation ever taken as a turn manoeuvre: a pattern read the wrong way
+// round is pi off, and must stay an outlier however long the robot was not seen.
+constexpr double kMaxManeuverTurn = M_PI / 2;
 
 }  // namespace
 
@@ -38,6 +41,9 @@ void validate(const RobotFilterParams& p) {
   if (!(p.gate_min_angle >= 0)) throw std::invalid_argument("robot filter: gate_min_angle must be >= 0");
   if (!(p.maneuver_speed_change >= 0) || !std::isfinite(p.maneuver_speed_change)) {
     throw std::invalid_argument("robot filter: maneuver_speed_change must be >= 0");
+  }
+  if (!(p.maneuver_omega_change >= 0) || !std::isfinite(p.maneuver_omega_change)) {
+    throw std::invalid_argument("robot filter: maneuver_omega_change must be >= 0");
   }
   if (p.reinit_after_rejections < 1) {
     throw std::invalid_argument("robot filter: reinit_after_rejections must be >= 1");
@@ -66,6 +72,7 @@ void RobotFilter::start(const RobotMeasurement& m) {
 void RobotFilter::startHeading(double theta) {
   x_(2) = wrapToPi(theta);
   x_(5) = 0;
+  since_heading_ = 0;
   P_.row(2).setZero();
   P_.col(2).setZero();
   P_.row(5).setZero();
@@ -91,6 +98,7 @@ void RobotFilter::predict(double dt) {
   x_ = x;
   P_ = P;
   since_update_ += dt;
+  since_heading_ += dt;
 }
 
 double RobotFilter::positionDistance2(double x, double y) const {
@@ -141,10 +149,24 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
   since_update_ = 0;
 
   bool use_heading = false;
+  bool heading_maneuver = false;
   if (m.heading_valid) {
     const double dtheta = wrapToPi(m.theta - x_(2));
     const double s = P_(2, 2) + p_.sigma_theta * p_.sigma_theta;
     use_heading = std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
+    heading_maneuver = !use_heading && p_.maneuver_omega_change > 0 &&
+                       std::abs(dtheta) <= std::min(kMaxManeuverTurn, p_.maneuver_omega_change * since_heading_ +
+                                                                          p_.gate_min_angle);
+    if (heading_maneuver) {
+      // An angular-velocity jump dω at the last heading update turns the robot by dω * t since.
+      const double var = 0.25 * p_.maneuver_omega_change * p_.maneuver_omega_change;
+      const double t = since_heading_;
+      P_(2, 2) += var * t * t;
+      P_(2, 5) += var * t;
+      P_(5, 2) += var * t;
+      P_(5, 5) += var;
+      use_heading = true;
+    }
     if (!use_heading && ++heading_rejections_ >= p_.reinit_after_rejections) {
       startHeading(m.theta);  // the heading really changed (or the track began without one)
       heading_rejections_ = 0;
@@ -164,12 +186,14 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
   innovation(0) = dx;
   innovation(1) = dy;
   if (use_heading) {
+    since_heading_ = 0;
     H(2, 2) = 1;
     R(2, 2) = p_.sigma_theta * p_.sigma_theta;
     innovation(2) = wrapToPi(m.theta - x_(2));
   }
   applyUpdate(innovation, H, R);
   if (maneuver) return GateResult::Maneuver;
+  if (heading_maneuver) return GateResult::HeadingManeuver;
   return (m.heading_valid && !use_heading) ? GateResult::HeadingRejected : GateResult::Accepted;
 }
 

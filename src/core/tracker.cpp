@@ -116,6 +116,7 @@ TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   stats_.heading_outliers += report.heading_outliers;
   stats_.robots_reinitialised += report.robots_reinitialised;
   stats_.robot_maneuvers += report.robot_maneuvers;
+  stats_.heading_maneuvers += report.heading_maneuvers;
   stats_.ball_kicks += report.ball_kicks;
   stats_.tracks_created += report.robots_created + report.balls_created;
   stats_.tracks_lost += report.tracks_lost;
@@ -144,12 +145,14 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d,
   }
   if (gate == GateResult::HeadingRejected) ++report.heading_outliers;
   if (gate == GateResult::Maneuver) ++report.robot_maneuvers;
+  if (gate == GateResult::HeadingManeuver) ++report.heading_maneuvers;
   if (gate == GateResult::Reinitialised) {
     ++report.robots_reinitialised;
     track.has_heading = d.heading_valid;
   } else {
     track.has_heading = track.has_heading ||
-                        (d.heading_valid && (gate == GateResult::Accepted || gate == GateResult::Maneuver));
+                        (d.heading_valid && (gate == GateResult::Accepted || gate == GateResult::Maneuver ||
+                                               gate == GateResult::HeadingManeuver));
   }
   track.last_measured = frame.stamp;
   track.last_time = timeline_.now();

@@ -326,6 +326,8 @@ TEST(PresetPipeline, FastMotion) {
   EXPECT_LT(s.robotPositionRmse(), 0.003);  // 6 mm with the stamp taken as the measurement time
   EXPECT_GE(s.ballDetectionRate(), 0.97);
   EXPECT_LT(s.ballPositionRmse(), 0.008);
+  // Issue 4's heading target: 1.05° before heading manoeuvres (turn starts lost for frames).
+  EXPECT_LT(s.robotHeadingRmse(), 1.0 * M_PI / 180);
 }
 
 TEST(PresetPipeline, FlickerNoise) {
