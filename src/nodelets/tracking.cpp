@@ -429,6 +429,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("resets (time jumps)", s.resets);
   stat.add("robot outliers", s.robot_outliers);
   stat.add("robot manoeuvres (sudden velocity changes)", s.robot_maneuvers);
+  stat.add("heading manoeuvres (sudden turns)", s.heading_maneuvers);
   stat.add("measurement offset [s]", tracker_params_.measurement_offset);
   stat.add("ball kicks", s.ball_kicks);
   stat.add("frames searched whole", global_frames_);
