@@ -164,8 +164,11 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
   }
   const float fill = ratios.empty() ? 1.0f : median(ratios);
   for (int by = 0; by < grid.rows; ++by) {
+    const std::uint8_t* m = measured.ptr<std::uint8_t>(by);
+    const float* e = expected.ptr<float>(by);
+    float* out = levels.ptr<float>(by);
     for (int bx = 0; bx < grid.cols; ++bx) {
-      if (!measured(by, bx)) levels.at<float>(by, bx) = fill * expected.at<float>(by, bx);
+      if (!m[bx]) out[bx] = fill * e[bx];
     }
   }
   return levels;
@@ -251,9 +254,11 @@ cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout 
     std::vector<float> ratios;
     ratios.reserve(now.total());
     for (int y = 0; y < now.rows; ++y) {
+      const float* ref = reference_.ptr<float>(y);
+      const float* mean = now.ptr<float>(y);
+      const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(y);
       for (int x = 0; x < now.cols; ++x) {
-        const float ref = reference_.at<float>(y, x);
-        if (ref > 0 && (selected.empty() || selected(y, x))) ratios.push_back(now.at<float>(y, x) / ref);
+        if (ref[x] > 0 && (!wanted || wanted[x])) ratios.push_back(mean[x] / ref[x]);
       }
     }
     if (!ratios.empty()) global = std::clamp<double>(median(ratios), 1.0 / 16, 16.0);
