@@ -136,6 +136,10 @@ class FrameClassifier {
   // colour-cube test before the full lookup. Throws std::invalid_argument for stride < 1
   // or a rect outside the label image.
   void scanGrid(const cv::Rect& rect, int stride, ClassMask classes, std::vector<cv::Point>& hits) const;
+  // The same for the label pixels x_begin, x_begin + step, ... < x_end of row y (e.g. a
+  // checkerboard's points). Throws std::invalid_argument for step < 1 or points outside
+  // the label image.
+  void scanPoints(int y, int x_begin, int x_end, int step, ClassMask classes, std::vector<cv::Point>& hits) const;
   // Colour of a label pixel as classified (BGR; a Bayer quad's R, mean G, B), for
   // sub-pixel weighting of region edges.
   cv::Vec3b colorAt(int x, int y) const;
@@ -149,6 +153,7 @@ class FrameClassifier {
 
  private:
   int sharpenedV(int x, int y) const;
+  void scanRowPoints(int y, int x0, int x1, int step, ClassMask classes, std::vector<cv::Point>& hits) const;  // unchecked
   void classifySharpened(const cv::Rect& rect, cv::Mat& out, ClassMask keep) const;
   int adjustedVAt(int x, int y, int v) const;
   void checkRect(const cv::Rect& rect) const;

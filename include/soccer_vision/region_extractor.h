@@ -9,7 +9,8 @@
 // classification is then needed only in tiles around the hits, grown until no region
 // touches the border of what was classified. The result equals morphology + connected
 // components on the fully classified frame (tested against OpenCV on random label images).
-// With morphology off (kernel 0) the stride is 1 (every pixel).
+// With morphology off (kernel 0 or 1) the stride is 1 (every pixel), or the checkerboard
+// when regions must hold two adjacent pixels (require_pair: the same argument for dominoes).
 //
 // Search windows restrict the scan and the classification to given rectangles; regions
 // crossing a window border are followed out of it (grown like tiles), so they are never
@@ -42,6 +43,13 @@ struct RegionParams {
   int max_area = 20000;              // px, larger regions are dropped
   int max_regions_per_class = 64;    // the cap: more are dropped and counted in cap_hits
   int tile_size = 16;                // label px of the classification tiles (16 beat 8 and 32 in the benchmark)
+  // With morphology off (morph_kernel <= 1): only regions holding two 4-adjacent pixels
+  // of their class (a domino) are kept; single pixels and diagonal chains of them are
+  // dropped. Every domino covers exactly one point of the checkerboard grid (x + y even),
+  // so the scan reads half the pixels and still finds every such region, with all its
+  // pixels (unlike an opening, which would take the partly covered edge quads of a
+  // 3-quad-wide Bayer tag). Ignored with morphology on.
+  bool require_pair = false;
   ClassMask classes = markerClassMask();
   // Sub-pixel moments: edge pixels weighted by their estimated coverage (their colour
   // between the region's interior colour and the surrounding colour), so that anti-aliased

@@ -38,7 +38,9 @@ constexpr int kRegionParamsWidth = 1280;
 constexpr double kKeepKernelRatio = 0.75;
 // Region parameters for a label image `label_width` px wide (r = width / 1280, at most 1):
 // kernel k / 2 below r = 0.75 (3 -> 1, i.e. off: a 3x3 opening erases a 30 mm tag of
-// ~4 px, and 2 loses its edge pixels), areas x r² (at least 1), tiles x r (at least 8).
+// ~4 px, and 2 loses its edge pixels; without the opening, regions must then hold two
+// adjacent pixels of their class: require_pair, a checkerboard scan), areas x r² (at
+// least 1), tiles x r (at least 8).
 // Unchanged at 1280 px and wider.
 RegionParams labelParams(const RegionParams& params, int label_width);
 // Bayer quads of a 1280x1024 mosaic: labelParams(params, 640).

@@ -171,28 +171,35 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
   const float fill = ratios.empty() ? 1.0f : median(ratios);
   cv::Mat1f ratio(grid.rows, grid.cols, 0.0f);
   for (int by = 0; by < grid.rows; ++by) {
+    const std::uint8_t* m = measured.ptr<std::uint8_t>(by);
+    const float* e = expected.ptr<float>(by);
+    const float* level = levels.ptr<float>(by);
+    float* r = ratio.ptr<float>(by);
     for (int bx = 0; bx < grid.cols; ++bx) {
-      if (measured(by, bx)) ratio(by, bx) = levels.at<float>(by, bx) / expected.at<float>(by, bx);
+      if (m[bx]) r[bx] = level[bx] / e[bx];
     }
   }
   std::vector<float> clean, any;
   for (int by = 0; by < grid.rows; ++by) {
     const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(by);
+    const std::uint8_t* m = measured.ptr<std::uint8_t>(by);
+    const float* e = expected.ptr<float>(by);
     float* out = levels.ptr<float>(by);
     for (int bx = 0; bx < grid.cols; ++bx) {
-      if (measured(by, bx) == 2) continue;
+      if (m[bx] == 2) continue;
       clean.clear();
       any.clear();
       if (!wanted || wanted[bx]) {
         for (int j = std::max(0, by - kLevelNeighbourhood); j <= std::min(grid.rows - 1, by + kLevelNeighbourhood); ++j) {
+          const std::uint8_t* mj = measured.ptr<std::uint8_t>(j);
+          const float* rj = ratio.ptr<float>(j);
           for (int i = std::max(0, bx - kLevelNeighbourhood); i <= std::min(grid.cols - 1, bx + kLevelNeighbourhood); ++i) {
-            if (measured(j, i) == 2) clean.push_back(ratio(j, i));
-            if (measured(j, i)) any.push_back(ratio(j, i));
+            if (mj[i] == 2) clean.push_back(rj[i]);
+            if (mj[i]) any.push_back(rj[i]);
           }
         }
       }
-      const float r = !clean.empty() ? median(clean) : !any.empty() ? median(any) : fill;
-      out[bx] = r * expected.at<float>(by, bx);
+      out[bx] = (!clean.empty() ? median(clean) : !any.empty() ? median(any) : fill) * e[bx];
     }
   }
   return levels;
@@ -278,9 +285,11 @@ cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout 
     std::vector<float> ratios;
     ratios.reserve(now.total());
     for (int y = 0; y < now.rows; ++y) {
+      const float* ref = reference_.ptr<float>(y);
+      const float* mean = now.ptr<float>(y);
+      const std::uint8_t* wanted = selected.empty() ? nullptr : selected.ptr<std::uint8_t>(y);
       for (int x = 0; x < now.cols; ++x) {
-        const float ref = reference_.at<float>(y, x);
-        if (ref > 0 && (selected.empty() || selected(y, x))) ratios.push_back(now.at<float>(y, x) / ref);
+        if (ref[x] > 0 && (!wanted || wanted[x])) ratios.push_back(mean[x] / ref[x]);
       }
     }
     if (!ratios.empty()) global = std::clamp<double>(median(ratios), 1.0 / 16, 16.0);

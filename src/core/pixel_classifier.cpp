@@ -468,25 +468,38 @@ void FrameClassifier::scanGrid(const cv::Rect& rect, int stride, ClassMask class
                                std::vector<cv::Point>& hits) const {
   checkRect(rect);
   if (stride < 1) throw std::invalid_argument("FrameClassifier::scanGrid: stride must be >= 1");
-  const ClassLookup& lookup = *classifier_.lookup_;
   const int x0 = (rect.x + stride - 1) / stride * stride, x1 = rect.x + rect.width;
   for (int y = (rect.y + stride - 1) / stride * stride; y < rect.y + rect.height; y += stride) {
-    const LabelRow row = labelRow(image_, layout_, y);
-    if (!sharpen_terms_.empty()) {
-      for (int x = x0; x < x1; x += stride) {
-        const int b = row.b[x * row.step], g = greenAt(row, x), r = row.r[x * row.step];
-        if (!lookup.mayBeIn(b, g, r, classes)) continue;
-        const int label = lookup.classAt(b, g, r, adjustedVAt(x, y, sharpenedV(x, y)));
-        if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
-      }
-      continue;
+    scanRowPoints(y, x0, x1, stride, classes, hits);
+  }
+}
+
+void FrameClassifier::scanPoints(int y, int x_begin, int x_end, int step, ClassMask classes,
+                                 std::vector<cv::Point>& hits) const {
+  if (step < 1) throw std::invalid_argument("FrameClassifier::scanPoints: step must be >= 1");
+  if (x_begin >= x_end) return;
+  checkRect(cv::Rect(x_begin, y, x_end - x_begin, 1));
+  scanRowPoints(y, x_begin, x_end, step, classes, hits);
+}
+
+void FrameClassifier::scanRowPoints(int y, int x0, int x1, int step, ClassMask classes,
+                                    std::vector<cv::Point>& hits) const {
+  const ClassLookup& lookup = *classifier_.lookup_;
+  const LabelRow row = labelRow(image_, layout_, y);
+  if (!sharpen_terms_.empty()) {
+    for (int x = x0; x < x1; x += step) {
+      const int b = row.b[x * row.step], g = greenAt(row, x), r = row.r[x * row.step];
+      if (!lookup.mayBeIn(b, g, r, classes)) continue;
+      const int label = lookup.classAt(b, g, r, adjustedVAt(x, y, sharpenedV(x, y)));
+      if (classes & (ClassMask(1) << label)) hits.emplace_back(x, y);
     }
-    const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
-    if (row.step == 3) {
-      scanRow<3>(lookup, row, adjusted, y, x0, x1, stride, classes, hits);
-    } else {
-      scanRow<2>(lookup, row, adjusted, y, x0, x1, stride, classes, hits);
-    }
+    return;
+  }
+  const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
+  if (row.step == 3) {
+    scanRow<3>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
+  } else {
+    scanRow<2>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
   }
 }
 

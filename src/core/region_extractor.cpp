@@ -111,28 +111,37 @@ void mergeSpans(std::vector<std::pair<int, int>>& spans) {
   if (!spans.empty()) spans.resize(merged + 1);
 }
 
-// The hits of the stride grid in the union of `rects` (inside the image), each point
-// looked up once however the rects overlap (search windows around robots close to each
-// other do), plus the last column and row of the image where rects reach them and the
-// grid misses them. Returns the number of points looked up.
+// The hits of the stride grid (or of the checkerboard x + y even) in the union of
+// `rects` (inside the image), each point looked up once however the rects overlap (search
+// windows around robots close to each other do), plus, for the stride grid, the last
+// column and row of the image where rects reach them and the grid misses them. Returns
+// the number of points looked up.
 std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect>& rects, int stride,
-                        const cv::Rect& image, ClassMask classes, Scratch& s) {
+                        bool checkerboard, const cv::Rect& image, ClassMask classes, Scratch& s) {
   if (rects.empty()) return 0;
   std::uint32_t looked_up = 0;
   auto& spans = s.spans;
   int y_begin = image.height, y_end = 0;
   for (const cv::Rect& r : rects) y_begin = std::min(y_begin, r.y), y_end = std::max(y_end, r.br().y);
-  for (int y = (y_begin + stride - 1) / stride * stride; y < y_end; y += stride) {
+  const int row_step = checkerboard ? 1 : stride;
+  for (int y = (y_begin + row_step - 1) / row_step * row_step; y < y_end; y += row_step) {
     spans.clear();
     for (const cv::Rect& r : rects) {
       if (r.y <= y && y < r.br().y) spans.emplace_back(r.x, r.br().x);
     }
     mergeSpans(spans);
     for (const auto& [x0, x1] : spans) {
-      frame.scanGrid(cv::Rect(x0, y, x1 - x0, 1), stride, classes, s.hits);
-      looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride));
+      if (checkerboard) {
+        const int first = x0 + ((x0 + y) & 1);
+        frame.scanPoints(y, first, x1, 2, classes, s.hits);
+        looked_up += static_cast<std::uint32_t>(first < x1 ? (x1 - first + 1) / 2 : 0);
+      } else {
+        frame.scanGrid(cv::Rect(x0, y, x1 - x0, 1), stride, classes, s.hits);
+        looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride));
+      }
     }
   }
+  if (checkerboard) return looked_up;  // every domino in the image holds a checkerboard point
   bool corner_scanned = false;  // the last column's scan holds (width - 1, height - 1)
   if ((image.width - 1) % stride != 0) {
     spans.clear();
@@ -191,14 +200,37 @@ bool inOpenedWindow(const LabelAt& label, const cv::Rect& image, cv::Point g, in
   return false;
 }
 
-// inOpenedWindow on the patch g ± (k - 1), classified here (in one call). Adds the pixels
-// it classified.
-bool survivesOpening(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, int k, ClassMask classes,
-                     cv::Mat& patch, std::uint32_t& classified) {
-  const cv::Rect inside = cv::Rect(g.x - (k - 1), g.y - (k - 1), 2 * k - 1, 2 * k - 1) & image;
+// True when point `g` has a 4-neighbour (in the image) of its class: it is part of a
+// domino. `label(x, y)`: the label of an image pixel within g ± 1.
+template <typename LabelAt>
+bool inPair(const LabelAt& label, const cv::Rect& image, cv::Point g) {
+  const std::uint8_t color = label(g.x, g.y);
+  return (g.x > 0 && label(g.x - 1, g.y) == color) || (g.x + 1 < image.width && label(g.x + 1, g.y) == color) ||
+         (g.y > 0 && label(g.x, g.y - 1) == color) || (g.y + 1 < image.height && label(g.x, g.y + 1) == color);
+}
+
+// What a grid hit must show to be kept: a k x k window of its class (the opening, or k = 1:
+// nothing) or a domino (require_pair). reach(): how far from the hit the test looks.
+struct HitRule {
+  int k;
+  bool pair;
+  int reach() const { return pair ? 1 : k - 1; }
+  bool filters() const { return pair || k > 1; }
+  template <typename LabelAt>
+  bool passes(const LabelAt& label, const cv::Rect& image, cv::Point g) const {
+    return pair ? inPair(label, image, g) : inOpenedWindow(label, image, g, k);
+  }
+};
+
+// The hit rule on the patch g ± reach, classified here (in one call). Adds the pixels it
+// classified.
+bool survivesRule(const FrameClassifier& frame, const cv::Rect& image, cv::Point g, const HitRule& rule,
+                  ClassMask classes, cv::Mat& patch, std::uint32_t& classified) {
+  const int reach = rule.reach();
+  const cv::Rect inside = cv::Rect(g.x - reach, g.y - reach, 2 * reach + 1, 2 * reach + 1) & image;
   frame.classify(inside, patch, classes);
   classified += static_cast<std::uint32_t>(inside.area());
-  return inOpenedWindow([&](int x, int y) { return patch.at<std::uint8_t>(y - inside.y, x - inside.x); }, image, g, k);
+  return rule.passes([&](int x, int y) { return patch.at<std::uint8_t>(y - inside.y, x - inside.x); }, image, g);
 }
 
 cv::Rect grownBy(const cv::Rect& r, int margin, const cv::Rect& image) {
@@ -465,6 +497,7 @@ RegionExtractor::RegionExtractor(const RegionParams& params)
                                 std::to_string(p.morph_kernel));
   }
   if (p.tile_size < 1) throw std::invalid_argument("RegionParams: tile_size must be >= 1");
+
 }
 
 void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv::Rect>& windows,
@@ -475,7 +508,10 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   const cv::Rect image(cv::Point(0, 0), frame.labelSize());
   const int k = params_.morph_kernel;
   const bool morphology = k > 1;
-  const int stride = std::max(1, k);
+  // Every region kept holds a k x k square of its class (the opening) or, with
+  // require_pair, a domino: the scan's grid and hit test follow from that.
+  const HitRule rule{std::max(1, k), !morphology && params_.require_pair};
+  const int stride = rule.pair ? 2 : rule.k;
   const int tile = params_.tile_size;
   Clock::time_point since = Clock::now();
 
@@ -490,20 +526,20 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   for (const cv::Rect& w : windows) {
     if (!(w & image).empty()) s.scanned.push_back(w & image);
   }
-  stats.grid_points += scanUnion(frame, s.scanned, stride, image, params_.classes, s);
+  stats.grid_points += scanUnion(frame, s.scanned, stride, rule.pair, image, params_.classes, s);
   // Hits that do not survive the opening are dropped (colour noise then costs a few
   // pixels per hit, not a tile). One surviving hit makes its tile part of an area, whose
   // classification will hold the patches of every other hit in it: those are tested
   // there, on the area's labels, instead of classifying their patches here.
   s.pending.clear();
-  if (morphology) {
+  if (rule.filters()) {
     const int tiles_x = (image.width + tile - 1) / tile;
     s.tiles.assign(static_cast<std::size_t>(tiles_x) * ((image.height + tile - 1) / tile), 0);
     std::size_t kept = 0;
     for (const cv::Point& g : s.hits) {
       std::uint8_t& needed = s.tiles[static_cast<std::size_t>(g.y / tile) * tiles_x + g.x / tile];
       const bool pending = needed != 0;
-      if (!pending && !survivesOpening(frame, image, g, k, params_.classes, s.patch, stats.classified_pixels)) continue;
+      if (!pending && !survivesRule(frame, image, g, rule, params_.classes, s.patch, stats.classified_pixels)) continue;
       needed = 1;
       s.hits[kept] = g;
       s.pending.push_back(pending);
@@ -516,7 +552,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   stats.classify_ms += msSince(since);
 
   // 2. Tile areas.
-  tileAreas(s.hits, tile, std::max(0, k - 1), image, s);
+  tileAreas(s.hits, tile, rule.reach(), image, s);
   // Four erode/dilate passes, each reaching k/2 px: beyond that the result is exact.
   const int margin = morphology ? 4 * (k / 2) : 0;
 
@@ -536,8 +572,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
       const cv::Point g = s.hits[h];
       const cv::Rect seeds = seedBox(g, image) & core;
       if (seeds.empty()) continue;
-      // A pending hit's patch lies in `outer` (core + margin >= k - 1).
-      if (s.pending[h] && !inOpenedWindow([&](int x, int y) { return s.labels.at<std::uint8_t>(y, x); }, image, g, k)) {
+      // A pending hit's patch g ± reach lies in `outer` (tileAreas' reach, plus the margin).
+      if (s.pending[h] && !rule.passes([&](int x, int y) { return s.labels.at<std::uint8_t>(y, x); }, image, g)) {
         continue;
       }
       const std::uint8_t c = labels.at<std::uint8_t>(g - outer.tl());
