@@ -1,6 +1,7 @@
 #include "soccer_vision/image_footprint.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace soccer_vision {
@@ -17,7 +18,20 @@ void visitMarkerOutline(const MarkerShape& s, double x, double y, double theta, 
     return Eigen::Vector3d(x + c * lx - sn * ly, y + sn * lx + c * ly, z);
   };
   if (s.kind == MarkerShape::Kind::Disc) {
+    // The default disc's vertex directions, computed once (the same values as below).
+    static const auto unit16 = [] {
+      std::array<std::array<double, 2>, 16> u{};
+      for (int i = 0; i < 16; ++i) {
+        const double a = 2 * M_PI * i / 16;
+        u[i] = {std::cos(a), std::sin(a)};
+      }
+      return u;
+    }();
     for (int i = 0; i < disc_points; ++i) {
+      if (disc_points == 16) {
+        visit(world(s.x + s.radius * unit16[i][0], s.y + s.radius * unit16[i][1]));
+        continue;
+      }
       const double a = 2 * M_PI * i / disc_points;
       visit(world(s.x + s.radius * std::cos(a), s.y + s.radius * std::sin(a)));
     }

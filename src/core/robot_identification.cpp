@@ -20,7 +20,7 @@ constexpr double kDeg = M_PI / 180.0;
 struct Observed {
   int region = 0;  // index into the input regions
   ColorClass color = ColorClass::None;
-  PlaneRegion plane;
+  PlaneRegion plane;  // id markers (not team colours): the centre only
   double area_px = 0;
 };
 
@@ -44,6 +44,26 @@ struct Hypothesis {
 // Colour sets as bit masks: a slot's colours are tested for every candidate pairing.
 using ColorMask = std::uint32_t;
 ColorMask colorBit(ColorClass c) { return ColorMask{1} << static_cast<unsigned>(c); }
+
+// Slot assignments (equal length) already met, stored flat: a handful per team region, so
+// a linear search without an allocation per entry.
+class AssignmentSet {
+ public:
+  // false if `slots` was inserted before.
+  bool insert(const std::vector<int>& slots) {
+    const std::size_t n = slots.size();
+    if (n == 0) return !std::exchange(empty_seen_, true);  // team-only patterns
+    for (std::size_t i = 0; i + n <= flat_.size(); i += n) {
+      if (std::equal(slots.begin(), slots.end(), flat_.begin() + static_cast<std::ptrdiff_t>(i))) return false;
+    }
+    flat_.insert(flat_.end(), slots.begin(), slots.end());
+    return true;
+  }
+
+ private:
+  std::vector<int> flat_;
+  bool empty_seen_ = false;
+};
 
 // What one identify() call works on; the pattern geometry is precomputed per call (cheap).
 // Hypothesis forming runs per team region for every id marker near it and every slot, so
@@ -70,6 +90,7 @@ class Matcher {
       max_reach_ = std::max(max_reach_, d.norm() + params.marker_gate);
     }
     team_weight_ = shapeArea(pattern.team_marker);
+    gate2_ = params.marker_gate * params.marker_gate * (1 + 1e-9);  // a superset of d <= gate
     // An elongated team tag has a minor axis along robot x (size_x < size_y) or y.
     const MarkerShape& tm = pattern.team_marker;
     if (tm.kind == MarkerShape::Kind::Rect && std::max(tm.size_x, tm.size_y) > 1.2 * std::min(tm.size_x, tm.size_y)) {
@@ -80,10 +101,19 @@ class Matcher {
       const bool team = c == ColorClass::Blue || c == ColorClass::Yellow;
       const bool id_marker = (id_colors & colorBit(c)) != 0;
       if (!team && !id_marker) continue;
-      const auto plane = projectToPlane(regions[r], camera, pattern.robot_height);
-      if (!plane) continue;
+      // Shape and axis are used for team tags only; an id marker needs just its centroid.
+      PlaneRegion plane;
+      if (team) {
+        const auto full = projectToPlane(regions[r], camera, pattern.robot_height);
+        if (!full) continue;
+        plane = *full;
+      } else {
+        const auto centre = projectCentroidToPlane(regions[r], camera, pattern.robot_height);
+        if (!centre) continue;
+        plane.centre = *centre;
+      }
       const int o = static_cast<int>(observed_.size());
-      observed_.push_back({static_cast<int>(r), c, *plane, static_cast<double>(regions[r].area)});
+      observed_.push_back({static_cast<int>(r), c, plane, static_cast<double>(regions[r].area)});
       // A colour can be both team and id colour in a user pattern; then it is tried as both.
       if (team) teams_.push_back(o);
       if (id_marker) id_markers_.push_back(o);
@@ -100,11 +130,9 @@ class Matcher {
     std::vector<Hypothesis> out;
     const Observed& team = observed_[t];
     const Team team_id = team.color == ColorClass::Blue ? Team::Blue : Team::Yellow;
-    // Slot assignments already evaluated (a handful per team region: linear search).
-    std::vector<std::vector<int>> seen;
+    AssignmentSet seen;  // slot assignments already evaluated
     auto consider = [&](Hypothesis h, bool fitted) {
-      if (std::find(seen.begin(), seen.end(), h.slot_obs) != seen.end()) return;
-      seen.push_back(h.slot_obs);
+      if (!seen.insert(h.slot_obs)) return;
       if (!evaluate(h, fitted)) return;
       if (h.id >= 0 && taken.count({team_id, h.id})) return;
       out.push_back(std::move(h));
@@ -120,17 +148,18 @@ class Matcher {
       // Seeds of one robot mostly lead to the same first assignment (each of its id markers
       // taken as its own slot); what follows depends on that assignment only, so it is
       // refitted once.
-      std::vector<std::vector<int>> seeded;
+      AssignmentSet seeded;
       for (int c : near) {
         const Eigen::Vector2d d = observed_[c].plane.centre - team.plane.centre;
         const double dist = d.norm();
         if (dist > max_reach_) continue;
+        const double direction = std::atan2(d.y(), d.x());
 
         for (std::size_t s = 0; s < pattern_.slots.size(); ++s) {
           if (slot_dist_[s] < 1e-6 || std::abs(dist - slot_dist_[s]) > params_.marker_gate) continue;
           if (!(slot_colors_[s] & colorBit(observed_[c].color))) continue;
           Pose2d seed;
-          seed.theta = wrapAngle(std::atan2(d.y(), d.x()) - slot_angle_[s]);
+          seed.theta = wrapAngle(direction - slot_angle_[s]);
           const Eigen::Vector2d offset = seed.apply(team_pos_) - Eigen::Vector2d(seed.x, seed.y);
           seed.x = team.plane.centre.x() - offset.x();
           seed.y = team.plane.centre.y() - offset.y();
@@ -138,8 +167,7 @@ class Matcher {
           h.team = t;
           assignSlots(seed, near, h.slot_obs);
           if (h.slot_obs[s] < 0) continue;  // the seed itself did not survive the assignment
-          if (std::find(seeded.begin(), seeded.end(), h.slot_obs) != seeded.end()) continue;
-          seeded.push_back(h.slot_obs);
+          if (!seeded.insert(h.slot_obs)) continue;
           // Refit and reassign once: the seed pose rests on two centroids only.
           if (!fit(h)) continue;
           assignSlots(h.pose, near, slot_scratch_);
@@ -172,7 +200,10 @@ class Matcher {
       const Eigen::Vector2d p(pose.x + c * l.x() - sn * l.y(), pose.y + sn * l.x() + c * l.y());  // pose.apply(l)
       for (int o : candidates) {
         if (!(slot_colors_[s] & colorBit(observed_[o].color))) continue;
-        const double d = (observed_[o].plane.centre - p).norm();
+        // Most pairs are far apart: the root only for those near the gate (same value as norm()).
+        const double d2 = (observed_[o].plane.centre - p).squaredNorm();
+        if (d2 > gate2_) continue;
+        const double d = std::sqrt(d2);
         if (d <= params_.marker_gate) pairs_.push_back({d, s, o});
       }
     }
@@ -307,6 +338,7 @@ class Matcher {
   std::vector<ColorMask> slot_colors_;
   std::vector<double> slot_dist_, slot_angle_;
   double max_reach_ = 0;
+  double gate2_ = 0;  // squared marker_gate with a margin for rounding
   std::optional<double> team_axis_;  // minor axis of the team tag in the robot frame
   std::vector<Observed> observed_;
   std::vector<int> teams_, id_markers_;
