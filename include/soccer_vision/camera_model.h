@@ -57,6 +57,7 @@ class CameraModel {
  private:
   CameraIntrinsics k_;
   Eigen::Isometry3d field_T_camera_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d camera_T_field_ = Eigen::Isometry3d::Identity();  // its inverse, for project()
 };
 
 }  // namespace soccer_vision

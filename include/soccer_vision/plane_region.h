@@ -33,4 +33,10 @@ std::optional<Eigen::Matrix2d> pixelToPlaneJacobian(const CameraModel& camera, c
 // non-finite centroid / moments.
 std::optional<PlaneRegion> projectToPlane(const Region& region, const CameraModel& camera, double plane_z);
 
+// Only the centroid (PlaneRegion::centre, one undistortion instead of five): nullopt for
+// the same input and centroid rays as projectToPlane. Where projectToPlane also needs the
+// rays 0.5 px around the centroid to hit the plane, this does not.
+std::optional<Eigen::Vector2d> projectCentroidToPlane(const Region& region, const CameraModel& camera,
+                                                      double plane_z);
+
 }  // namespace soccer_vision

@@ -19,12 +19,26 @@ std::optional<Eigen::Matrix2d> pixelToPlaneJacobian(const CameraModel& camera, c
   return j;
 }
 
+namespace {
+
+// Corrupt input (a bad message) must not turn into NaN poses downstream.
+bool usableRegion(const Region& region) {
+  return std::isfinite(region.cx) && std::isfinite(region.cy) && std::isfinite(region.mu20) &&
+         std::isfinite(region.mu11) && std::isfinite(region.mu02) && region.area != 0;
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector2d> projectCentroidToPlane(const Region& region, const CameraModel& camera,
+                                                      double plane_z) {
+  if (!usableRegion(region)) return std::nullopt;
+  const auto centre = camera.pixelToField(Eigen::Vector2d(region.cx, region.cy), plane_z);
+  if (!centre || !centre->allFinite()) return std::nullopt;
+  return Eigen::Vector2d(centre->head<2>());
+}
+
 std::optional<PlaneRegion> projectToPlane(const Region& region, const CameraModel& camera, double plane_z) {
-  // Corrupt input (a bad message) must not turn into NaN poses downstream.
-  if (!std::isfinite(region.cx) || !std::isfinite(region.cy) || !std::isfinite(region.mu20) ||
-      !std::isfinite(region.mu11) || !std::isfinite(region.mu02) || region.area == 0) {
-    return std::nullopt;
-  }
+  if (!usableRegion(region)) return std::nullopt;
   const Eigen::Vector2d pixel(region.cx, region.cy);
   const auto centre = camera.pixelToField(pixel, plane_z);
   const auto j = pixelToPlaneJacobian(camera, pixel, plane_z);
