@@ -24,6 +24,8 @@
 #include "soccer_vision/pixel_classifier.h"
 #include "soccer_vision/region_extractor.h"
 
+#include "label_colors.h"
+
 using namespace soccer_vision;
 
 namespace {
@@ -47,17 +49,7 @@ std::shared_ptr<const ColorTable> paletteTable() {
   return table;
 }
 
-cv::Mat colorsOf(const cv::Mat1b& labels) {
-  cv::Mat3b image(labels.size(), kNoneColor);
-  for (int y = 0; y < labels.rows; ++y) {
-    for (int x = 0; x < labels.cols; ++x) {
-      for (const auto& [c, color] : kPalette) {
-        if (labels(y, x) == static_cast<std::uint8_t>(c)) image(y, x) = color;
-      }
-    }
-  }
-  return image;
-}
+cv::Mat colorsOf(const cv::Mat1b& labels) { return test::paintLabels(labels, kPalette, kNoneColor); }
 
 // Random blobs of several classes: rectangles, rotated ellipses, thin lines, polygons,
 // some touching each other or the image border.

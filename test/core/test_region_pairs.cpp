@@ -19,6 +19,8 @@
 #include "soccer_vision/region_extractor.h"
 #include "soccer_vision/segmenter.h"
 
+#include "label_colors.h"
+
 using namespace soccer_vision;
 
 namespace {
@@ -58,17 +60,7 @@ cv::Mat1b randomLabels(std::mt19937& rng, cv::Size size) {
   return labels;
 }
 
-cv::Mat colorsOf(const cv::Mat1b& labels) {
-  cv::Mat3b image(labels.size(), kNoneColor);
-  for (int y = 0; y < labels.rows; ++y) {
-    for (int x = 0; x < labels.cols; ++x) {
-      for (const auto& [c, color] : kPalette) {
-        if (labels(y, x) == static_cast<std::uint8_t>(c)) image(y, x) = color;
-      }
-    }
-  }
-  return image;
-}
+cv::Mat colorsOf(const cv::Mat1b& labels) { return test::paintLabels(labels, kPalette, kNoneColor); }
 
 using Blob = std::tuple<int, int, int, int, int, int>;  // class, area, bbox x, y, width, height
 
