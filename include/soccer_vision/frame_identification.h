@@ -24,8 +24,9 @@ class FrameIdentifier {
   const IdentificationParams& params() const { return params_; }
   const CameraModel& camera() const { return robots_.camera(); }
 
+  // `mosaic`: regions found on a Bayer mosaic's quads (see RobotIdentifier::identify).
   CameraFrameDetections identify(const std::vector<Region>& regions, double stamp = 0, int camera_id = 0,
-                                 bool global_search = true) const;
+                                 bool global_search = true, bool mosaic = false) const;
 
  private:
   IdentificationParams params_;

@@ -13,12 +13,12 @@ void FrameIdentifier::setParams(const IdentificationParams& params) {
 }
 
 CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp, int camera_id,
-                                                bool global_search) const {
+                                                bool global_search, bool mosaic) const {
   CameraFrameDetections out;
   out.stamp = stamp;
   out.camera_id = camera_id;
   out.global_search = global_search;
-  RobotIdentificationResult robots = robots_.identify(regions);
+  RobotIdentificationResult robots = robots_.identify(regions, mosaic);
   out.robots = std::move(robots.robots);
   out.balls = balls_.detect(regions, robots.region_used);
   return out;

@@ -71,8 +71,8 @@ class AssignmentSet {
 class Matcher {
  public:
   Matcher(const CameraModel& camera, const PatternSet& pattern, const RobotIdentificationParams& params,
-          const std::vector<Region>& regions)
-      : camera_(camera), pattern_(pattern), params_(params) {
+          const std::vector<Region>& regions, double axis_weight)
+      : camera_(camera), pattern_(pattern), params_(params), axis_weight_(axis_weight) {
     const std::size_t n_slots = pattern.slots.size();
     team_pos_ = {pattern.team_marker.x, pattern.team_marker.y};
     slot_colors_.assign(n_slots, 0);
@@ -241,7 +241,7 @@ class Matcher {
         double a = axis_heading;
         if (std::abs(angleDifference(a, layout)) > M_PI / 2) a += M_PI;
         if (std::abs(angleDifference(a, layout)) > params_.axis_gate_deg * kDeg) return false;
-        prior = HeadingPrior{wrapAngle(a), params_.axis_weight};
+        prior = HeadingPrior{wrapAngle(a), axis_weight_};
       } else {
         prior = HeadingPrior{wrapAngle(axis_heading), 1.0};
       }
@@ -331,6 +331,7 @@ class Matcher {
   const CameraModel& camera_;
   const PatternSet& pattern_;
   const RobotIdentificationParams& params_;
+  const double axis_weight_;  // the team-tag axis' share for these regions
   Eigen::Vector2d team_pos_;
   double team_weight_ = 0;                 // team tag area: its weight in the fit
   std::vector<Eigen::Vector2d> slot_pos_;  // slot centres, robot frame
@@ -355,8 +356,8 @@ RobotIdentifier::RobotIdentifier(const CameraModel& camera, const PatternSet& pa
                                  const RobotIdentificationParams& params)
     : camera_(camera), patterns_(patterns), params_(params) {}
 
-RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions) const {
-  const Matcher m(camera_, patterns_, params_, regions);
+RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions, bool mosaic) const {
+  const Matcher m(camera_, patterns_, params_, regions, mosaic ? params_.axis_weight_mosaic : params_.axis_weight);
   const auto& obs = m.observed();
   std::vector<char> used(obs.size(), 0);
   std::set<std::pair<Team, int>> taken;

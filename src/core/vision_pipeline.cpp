@@ -71,7 +71,8 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_);
   frame.global_search = segmented_.global_search;
   frame.windows = segmented_.windows.size();
-  frame.detections = state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search);
+  frame.detections =
+      state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search, isBayer(camera.layout));
   const auto t1 = Clock::now();
 
   frame.prediction = tracker_.output(stamp);

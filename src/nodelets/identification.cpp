@@ -20,6 +20,9 @@
 //   marker_gate       double  0.020   (dr) [m] max distance of a marker from where the fitted
 //                                     pose puts it.
 //   area_ratio_gate   double  3.5     (dr) observed / expected marker area within [1/g, g].
+//   axis_weight       double  0.25    (dr) share of the team tag's axis in a two-tag heading.
+//   axis_weight_mosaic double 0.6     (dr) the same for blobs of a Bayer mosaic (BlobArray
+//                                     mosaic: the id markers' centroids on 2x2 quads are biased).
 //   min_confidence    double  0.05    (dr) robots below are not reported.
 //   max_missing_markers int   1       (dr) id markers a robot may lack (SSL pattern).
 //   report_unidentified bool  false   (dr) report team markers without an id (id 255).
@@ -64,6 +67,8 @@ IdentificationParams toIdentificationParams(const IdentificationConfig& c) {
   IdentificationParams p;
   p.robots.marker_gate = c.marker_gate;
   p.robots.area_ratio_gate = c.area_ratio_gate;
+  p.robots.axis_weight = c.axis_weight;
+  p.robots.axis_weight_mosaic = c.axis_weight_mosaic;
   p.robots.min_confidence = c.min_confidence;
   p.robots.max_missing_markers = c.max_missing_markers;
   p.robots.report_unidentified = c.report_unidentified;
@@ -240,7 +245,7 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   auto out = boost::make_shared<CameraDetections>();
   try {
     const CameraFrameDetections d = identifier->identify(fromBlobArray(*blobs), blobs->header.stamp.toSec(),
-                                                         camera_id_, blobs->global_search);
+                                                         camera_id_, blobs->global_search, blobs->mosaic);
     toCameraDetections(d, blobs->header, *out);
   } catch (const std::exception& e) {
     NODELET_ERROR_THROTTLE(5.0, "identification failed: %s; frame dropped", e.what());

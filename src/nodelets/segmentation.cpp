@@ -490,7 +490,7 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
 
   auto blobs = boost::make_shared<BlobArray>();
   toBlobArray(result_, image->header, camera_id_, static_cast<int>(image->width),
-              static_cast<int>(image->height), *blobs);
+              static_cast<int>(image->height), isBayer(*layout), *blobs);
   blobs_pub_.publish(blobs);  // never touched after this
 
   {

@@ -49,12 +49,13 @@ cv::Rect fromRegionOfInterest(const sensor_msgs::RegionOfInterest& roi) {
 }
 
 void toBlobArray(const SegmentationResult& result, const std_msgs::Header& header,
-                 int camera_id, int image_width, int image_height, BlobArray& out) {
+                 int camera_id, int image_width, int image_height, bool mosaic, BlobArray& out) {
   out.header = header;
   out.camera_id = static_cast<std::uint8_t>(std::clamp(camera_id, 0, 255));
   out.image_width = static_cast<std::uint32_t>(std::max(image_width, 0));
   out.image_height = static_cast<std::uint32_t>(std::max(image_height, 0));
   out.global_search = result.global_search;
+  out.mosaic = mosaic;
   out.windows.clear();
   if (!result.global_search) {
     out.windows.reserve(result.windows.size());

@@ -337,4 +337,7 @@ TEST(PresetPipeline, FlickerNoise) {
   EXPECT_EQ(s.identity_errors, 0);
   EXPECT_LT(s.robotPositionRmse(), 0.005);
   EXPECT_GE(s.ballDetectionRate(), 0.97);
+  // Issue 4's heading target: 1.55° before the Bayer quads' regions got their own team-tag
+  // axis weight (axis_weight_mosaic).
+  EXPECT_LT(s.robotHeadingRmse(), 1.0 * M_PI / 180);
 }

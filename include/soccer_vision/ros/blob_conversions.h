@@ -26,9 +26,9 @@ cv::Rect fromRegionOfInterest(const sensor_msgs::RegionOfInterest& roi);
 
 // Fills `out` (header = the image's header: capture stamp, optical frame) from one frame's
 // result: every region as a Blob in result order, the windows as used (empty on a global
-// search), cap_hits per ColorClass value (kNumColorClasses entries) and the processing time
-// (result.timings.total_ms) in seconds.
+// search), cap_hits per ColorClass value (kNumColorClasses entries), the processing time
+// (result.timings.total_ms) in seconds and whether the image was a Bayer mosaic.
 void toBlobArray(const SegmentationResult& result, const std_msgs::Header& header,
-                 int camera_id, int image_width, int image_height, BlobArray& out);
+                 int camera_id, int image_width, int image_height, bool mosaic, BlobArray& out);
 
 }  // namespace soccer_vision
