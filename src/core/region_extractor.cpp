@@ -570,8 +570,11 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     ClassMask present = 0;
     for (std::size_t h = 0; h < s.hits.size(); ++h) {
       const cv::Point g = s.hits[h];
-      const cv::Rect seeds = seedBox(g, image) & core;
-      if (seeds.empty()) continue;
+      // Hits lie in the image, so a hit's seed box (its pixel) meets the core exactly when
+      // the core contains it: a point test instead of two rectangle intersections per hit
+      // and area (those were 12 % of a crowded frame's instructions: 26 areas x 800 hits).
+      if (!core.contains(g)) continue;
+      const cv::Rect seeds = seedBox(g, image);
       // A pending hit's patch g ± reach lies in `outer` (tileAreas' reach, plus the margin).
       if (s.pending[h] && !rule.passes([&](int x, int y) { return s.labels.at<std::uint8_t>(y, x); }, image, g)) {
         continue;
