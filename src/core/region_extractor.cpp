@@ -323,21 +323,30 @@ void tileAreas(const std::vector<cv::Point>& hits, int tile, int reach, const cv
 
 // Labels of `rect`, a view into the frame's label image, written tile by tile, each tile
 // once per frame however often its areas grow or merge. With morphology (`only_marked`)
-// only the tiles within reach of a kept hit (tileAreas' 2s) are classified; the others
-// are written as None. That changes no region: the erosion finds the k x k squares of a
+// only the tiles within reach of a kept hit (tileAreas' 2s) or of unscanned pixels are
+// classified; the others are written as None. That changes no region: the erosion finds the k x k squares of a
 // class, each holds a kept hit within reach of all its pixels, so every such square lies
 // in classified tiles, and a square that is all of a class here is classified, so one in
 // truth too: the erosion is unchanged (inside the margin), and all that follows depends on
 // it only. Packed robots' tile groups fill about half of their bounding boxes: in the
 // crowd (32 robots) 61k instead of 112k pixels classified.
-cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int tile, bool only_marked,
+cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int tile, int reach, bool only_marked,
                          ClassMask classes, Scratch& s, std::uint32_t& classified) {
   const cv::Rect image(cv::Point(0, 0), s.labels.size());
   const int tiles_x = (image.width + tile - 1) / tile;
   const int tx_begin = rect.x / tile, tx_end = (rect.br().x - 1) / tile + 1;
   for (int ty = rect.y / tile; ty <= (rect.br().y - 1) / tile; ++ty) {
     const std::size_t row = static_cast<std::size_t>(ty) * tiles_x;
-    auto classify_tile = [&](int tx) { return !only_marked || s.tiles[row + tx] == 2; };
+    // A tile is left unclassified only where the grid was scanned within reach of it: a
+    // region followed out of the search windows has no hits there.
+    auto classify_tile = [&](int tx) {
+      if (!only_marked || s.tiles[row + tx] == 2) return true;
+      const cv::Rect near = grownBy(cv::Rect(tx * tile, ty * tile, tile, tile) & image, reach, image);
+      for (const cv::Rect& scanned : s.scanned) {
+        if ((near & scanned) == near) return false;
+      }
+      return true;
+    };
     for (int tx = tx_begin; tx < tx_end;) {
       if (s.labelled[row + tx]) {
         ++tx;
@@ -576,7 +585,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     area.regions.clear();
     const cv::Rect core = area.core;
     const cv::Rect outer = grownBy(core, margin, image);
-    const cv::Mat labels = classifiedLabels(frame, outer, tile, morphology, params_.classes, s, stats.classified_pixels);
+    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), morphology, params_.classes, s, stats.classified_pixels);
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();
     ClassMask present = 0;
