@@ -232,6 +232,26 @@ TEST(RegionExtractor, EqualsReferenceForShapesAcrossTileBordersAndTouchingClasse
   }
 }
 
+// Markers on a diagonal make one 8-connected tile group whose bounding box is mostly
+// empty: only the tiles near hits are classified (the rest is None without a look), and
+// the regions still equal the reference. Classifying the whole area would take its
+// 128 x 128 core plus the margin, 17424 pixels.
+TEST(RegionExtractor, ClassifiesOnlyTilesNearHitsOfPackedMarkers) {
+  cv::Mat1b labels(160, 160, static_cast<std::uint8_t>(ColorClass::None));
+  for (int t = 0; t < 8; ++t) {
+    cv::circle(labels, {16 * t + 8, 16 * t + 8}, 5, cv::Scalar(static_cast<int>(ColorClass::Blue)), cv::FILLED);
+  }
+  const RegionParams params = binaryParams(3, 16);
+  const Extraction got = extract(colorsOf(labels), params);
+  EXPECT_TRUE(sameBlobs(blobsOf(got.regions), reference(labels, params)));
+  EXPECT_EQ(got.regions.size(), 8u);
+  // 8 tiles of 16 x 16 (2048 px), plus the 5 x 5 opening tests of hits scanned before
+  // their tile was known to be needed.
+  std::printf("[ packed ] %u pixels classified for 8 markers in a 128 x 128 area\n", got.stats.classified_pixels);
+  EXPECT_GE(got.stats.classified_pixels, 8u * 256u);
+  EXPECT_LE(got.stats.classified_pixels, 8u * 256u + 8u * 4u * 25u);
+}
+
 // ------------------------------------------------------------------ search windows
 
 TEST(RegionExtractor, WindowsReturnCrossingRegionsWholeAndNothingOutside) {
