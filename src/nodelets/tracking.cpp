@@ -264,11 +264,11 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   search.global_search.period_frames = config.global_search_period;
   search.search_windows = config.search_windows;
   try {
-    for (auto& c : cameras_) c->planner.setParams(search);
+    validate(search);  // all cameras take the same parameters: check once, then apply
     search_params_ = search;
+    for (auto& c : cameras_) c->planner.setParams(search_params_);
   } catch (const std::exception& e) {  // the cfg's ranges make this unexpected
     NODELET_ERROR("search window parameters: %s; keeping the previous ones", e.what());
-    for (auto& c : cameras_) c->planner.setParams(search_params_);
   }
   show_windows_ = config.show_windows;
 }
