@@ -30,6 +30,8 @@ struct GlobalSearchParams {
   int period_frames = 30;  // [processed frames] global search at least this often (0: never)
 };
 
+void validate(const GlobalSearchParams& p);  // throws std::invalid_argument
+
 class GlobalSearchPolicy {
  public:
   explicit GlobalSearchPolicy(const GlobalSearchParams& params = {});

@@ -19,8 +19,12 @@ const char* globalSearchReasonName(GlobalSearchReason r) {
 
 GlobalSearchPolicy::GlobalSearchPolicy(const GlobalSearchParams& params) { setParams(params); }
 
-void GlobalSearchPolicy::setParams(const GlobalSearchParams& p) {
+void validate(const GlobalSearchParams& p) {
   if (p.period_frames < 0) throw std::invalid_argument("global search: period_frames must be >= 0");
+}
+
+void GlobalSearchPolicy::setParams(const GlobalSearchParams& p) {
+  validate(p);
   p_ = p;
 }
 

@@ -6,7 +6,7 @@ namespace soccer_vision {
 
 void validate(const SearchPlannerParams& p) {
   if (p.entry_band_px < 0) throw std::invalid_argument("entry_band_px must be >= 0");
-  if (p.global_search.period_frames < 0) throw std::invalid_argument("global_search.period_frames must be >= 0");
+  validate(p.global_search);
   validate(p.windows);
 }
 
