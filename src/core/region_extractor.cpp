@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "soccer_vision/binary_morphology.h"
+#include "soccer_vision/region_moments.h"
 #include "soccer_vision/run_length_components.h"
 
 // How the exact result is found without classifying the frame (see the header for why the
@@ -45,8 +46,6 @@ double msSince(Clock::time_point& since) {
 
 // Largest morphology kernel (binary_morphology.h takes up to 63).
 constexpr int kMaxKernel = 31;
-constexpr int kRing = 2;         // px around a region sampled for coverage
-constexpr int kPad = 2 * kRing;  // margin of the region's membership buffer: the ring's ring
 
 enum Side : unsigned { kLeft = 1, kTop = 2, kRight = 4, kBottom = 8 };
 
@@ -76,14 +75,7 @@ struct RegionScratch {
   std::array<RunLengthComponents, kNumColorClasses> components;  // of the area being done, per class
   std::vector<std::pair<int, int>> found;  // (class, component) of its regions within the area filter
   std::vector<std::uint8_t> seeded;
-  std::vector<std::uint8_t> inside, near, near_in_row;  // membership, within kRing of it
-  struct Sample {
-    int x, y;  // relative to the region's bbox
-    cv::Vec3d color;  // B, G, R
-    bool in_region;
-  };
-  std::vector<Sample> samples;
-  std::vector<double> alphas;  // coverage per sample
+  CoverageScratch coverage;
 };
 
 namespace {
@@ -372,142 +364,6 @@ cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int
   return s.labels(rect);
 }
 
-// Moments from weighted sums of x, y (relative to `origin`), x², xy, y².
-struct MomentSums {
-  double w = 0, x = 0, y = 0, xx = 0, xy = 0, yy = 0;
-  MomentSums() = default;
-  explicit MomentSums(const ComponentStats& c)
-      : w(c.area), x(double(c.sum_x)), y(double(c.sum_y)), xx(double(c.sum_xx)), xy(double(c.sum_xy)),
-        yy(double(c.sum_yy)) {}
-  void add(double px, double py, double weight) {
-    w += weight;
-    x += weight * px;
-    y += weight * py;
-    xx += weight * px * px;
-    xy += weight * px * py;
-    yy += weight * py * py;
-  }
-  void writeTo(Region& r, cv::Point origin) const {
-    const double mx = x / w, my = y / w;
-    r.cx = origin.x + mx;
-    r.cy = origin.y + my;
-    r.mu20 = xx / w - mx * mx;
-    r.mu11 = xy / w - mx * my;
-    r.mu02 = yy / w - my * my;
-    r.orientation = 0.5 * std::atan2(2 * r.mu11, r.mu20 - r.mu02);
-  }
-};
-
-// Coverage-weighted moments of one region (the paper weights its moments by V(i, j),
-// eq. 5-6; we weight by the estimated coverage α = clamp((p - bg)·(c - bg) / |c - bg|², 0, 1)
-// of each pixel so anti-aliased edges give the true sub-pixel centroid). c: mean colour of
-// the interior (4-neighbours in the region; all region pixels for tiny regions).
-// The ring around the region is kRing = 2 px wide, not 1: the opening cuts the corners of
-// a rectangle, and partly covered pixels there lie two pixels from the region (a 16x6 px
-// tag: 0.10 px / 0.57 deg error with a one-pixel ring, 0.03 px / 0.24 deg with two).
-// bg: mean colour of the ring, then once more weighted by 1 - α, so that the partly
-// covered ring pixels do not pull it towards c.
-// `s.inside` marks the region in its bbox grown by kPad. Returns false when the colours
-// give no usable contrast (binary moments then).
-bool coverageMoments(const FrameClassifier& frame, const cv::Rect& bbox, const cv::Rect& image, Scratch& s,
-                     Region& r) {
-  const int stride = bbox.width + 2 * kPad;
-  auto at = [&](int x, int y) { return static_cast<std::size_t>(y + kPad) * stride + (x + kPad); };
-  // Ring: within kRing px (chessboard) of the region, not in it; separable dilation. The
-  // kPad = 2 kRing margin is zero, so both passes read +-kRing around every pixel of the
-  // bbox grown by kRing without bounds checks (straight loops the compiler vectorises).
-  s.near.assign(s.inside.size(), 0);
-  s.near_in_row.assign(s.inside.size(), 0);
-  const std::uint8_t* inside = s.inside.data();
-  for (int y = 0; y < bbox.height; ++y) {  // members lie in the bbox's rows only
-    const std::uint8_t* in = inside + at(0, y);
-    std::uint8_t* out = s.near_in_row.data() + at(0, y);
-    for (int x = -kRing; x < bbox.width + kRing; ++x) {
-      std::uint8_t v = 0;
-      for (int d = -kRing; d <= kRing; ++d) v |= in[x + d];
-      out[x] = v;
-    }
-  }
-  for (int y = -kRing; y < bbox.height + kRing; ++y) {
-    const std::uint8_t* in = s.near_in_row.data() + at(0, y);
-    std::uint8_t* out = s.near.data() + at(0, y);
-    for (int x = -kRing; x < bbox.width + kRing; ++x) {
-      std::uint8_t v = 0;
-      for (int d = -kRing; d <= kRing; ++d) v |= in[x + static_cast<std::ptrdiff_t>(d) * stride];
-      out[x] = v;
-    }
-  }
-  // Samples in raster order (the sums below depend on the order in their last bits). The
-  // colour sums are of integers: exact, kept in integer registers, converted once.
-  std::array<int, 3> interior_sum{}, region_sum{}, ring_sum{};
-  int interior_n = 0, region_n = 0, ring_n = 0;
-  s.samples.clear();
-  const int x_begin = std::max(-kRing, -bbox.x), x_end = std::min(bbox.width + kRing, image.width - bbox.x);
-  const int y_begin = std::max(-kRing, -bbox.y), y_end = std::min(bbox.height + kRing, image.height - bbox.y);
-  for (int y = y_begin; y < y_end; ++y) {
-    const LabelRow row = frame.row(bbox.y + y);
-    const std::uint8_t* near = s.near.data() + at(0, y);
-    const std::uint8_t* member = inside + at(0, y);
-    for (int x = x_begin; x < x_end; ++x) {
-      if (!near[x]) continue;
-      const int i = (bbox.x + x) * row.step;
-      const std::array<int, 3> color = {row.b[i], (row.g1[i] + row.g2[i] + 1) >> 1, row.r[i]};
-      const bool in_region = member[x] != 0;
-      s.samples.push_back({x, y, cv::Vec3d(color[0], color[1], color[2]), in_region});
-      std::array<int, 3>& sum = in_region ? region_sum : ring_sum;
-      for (int c = 0; c < 3; ++c) sum[c] += color[c];
-      if (in_region) {
-        ++region_n;
-        if (member[x - 1] && member[x + 1] && member[x - stride] && member[x + stride]) {
-          for (int c = 0; c < 3; ++c) interior_sum[c] += color[c];
-          ++interior_n;
-        }
-      } else {
-        ++ring_n;
-      }
-    }
-  }
-  auto vec = [](const std::array<int, 3>& v) { return cv::Vec3d(v[0], v[1], v[2]); };
-  const cv::Vec3d inner = interior_n > 0 ? vec(interior_sum) / interior_n : vec(region_sum) / region_n;
-  // Pass 1: the plain mean of the ring; pass 2: weighted by 1 - coverage.
-  if (ring_n == 0) return false;
-  cv::Vec3d background = vec(ring_sum) / static_cast<double>(ring_n);
-  cv::Vec3d contrast = inner - background;
-  double contrast2 = contrast.dot(contrast);
-  if (contrast2 < 1.0) return false;  // less than one grey level apart: coverage is noise
-  auto coverage = [&](const cv::Vec3d& color) {
-    double projection = 0;  // (color - background) . contrast, summed in cv::Vec's order
-    for (int c = 0; c < 3; ++c) projection += (color[c] - background[c]) * contrast[c];
-    return std::min(std::max(projection / contrast2, 0.0), 1.0);  // = std::clamp, without branches
-  };
-  {
-    cv::Vec3d sum(0, 0, 0);
-    double weight = 0;
-    for (const Scratch::Sample& p : s.samples) {
-      if (p.in_region) continue;
-      const double w = 1.0 - coverage(p.color);
-      for (int c = 0; c < 3; ++c) sum[c] += w * p.color[c];
-      weight += w;
-    }
-    if (weight <= 0) return false;
-    background = sum / weight;
-    contrast = inner - background;
-    contrast2 = contrast.dot(contrast);
-    if (contrast2 < 1.0) return false;
-  }
-  // Coverage of every sample first (independent divisions, no branch waiting on them),
-  // then the sums of the covered ones.
-  s.alphas.resize(s.samples.size());
-  for (std::size_t i = 0; i < s.samples.size(); ++i) s.alphas[i] = coverage(s.samples[i].color);
-  MomentSums sums;
-  for (std::size_t i = 0; i < s.samples.size(); ++i) {
-    if (s.alphas[i] > 0) sums.add(s.samples[i].x, s.samples[i].y, s.alphas[i]);
-  }
-  if (sums.w <= 0) return false;
-  sums.writeTo(r, bbox.tl());
-  return true;
-}
-
 }  // namespace
 
 RegionExtractor::RegionExtractor(const RegionParams& params)
@@ -652,19 +508,10 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
       r.color = static_cast<ColorClass>(c);
       r.area = component.area;
       r.bbox = component.bbox + core.tl();
-      bool weighted = false;
-      if (params_.coverage_weighted_moments) {
-        // Membership of the bbox grown by kPad (outside it: not in the region).
-        const int stride_in = r.bbox.width + 2 * kPad;
-        s.inside.assign(static_cast<std::size_t>(stride_in) * (r.bbox.height + 2 * kPad), 0);
-        for (const PixelRun* run = components.runsBegin(label); run != components.runsEnd(label); ++run) {
-          const std::size_t at = static_cast<std::size_t>(run->y - component.bbox.y + kPad) * stride_in + kPad;
-          std::fill(s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_begin - component.bbox.x),
-                    s.inside.begin() + static_cast<std::ptrdiff_t>(at + run->x_end - component.bbox.x), 1);
-        }
-        weighted = coverageMoments(frame, r.bbox, image, s, r);
-      }
-      if (!weighted) MomentSums(component).writeTo(r, core.tl());
+      const bool weighted =
+          params_.coverage_weighted_moments &&
+          coverageMoments(frame, components.runsBegin(label), components.runsEnd(label), core.tl(), image, s.coverage, r);
+      if (!weighted) writeBinaryMoments(component, core.tl(), r);
       area.regions.push_back(r);
     }
     area.done = true;
