@@ -13,7 +13,8 @@
 //    cubes across an HS cell border own a block (~6 % of them): ~1 MB + ~2 MB instead of a
 //    flat 2^24 table's 32 MB, so lookups stay in L2/L3 even with several cameras.
 //  * Per cube, the classes any of its colours can take at any V (2^18 uint16, 512 KB; the
-//    carpet's few cubes stay in L1) reject most grid points before the lookup proper.
+//    carpet's few cubes stay in L1) reject most grid points before the lookup proper; the
+//    AVX-512 scan tests a coarser, per-class bit set first (512 cells, one register).
 #include "soccer_vision/pixel_classifier.h"
 
 #include <algorithm>
@@ -21,6 +22,11 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define SV_HAVE_AVX512_KERNELS 1
+#endif
 
 namespace soccer_vision {
 namespace detail {
@@ -35,6 +41,10 @@ struct ClassLookup {
   std::vector<std::uint16_t> block_columns;    // block * 64 + colour in cube -> column id
   std::vector<std::uint8_t> column_classes;    // column id * 256 + V' -> ColorClass
   std::vector<std::uint16_t> cube_classes;     // cube -> ClassMask of its possible classes
+  // Per class, a bit per coarse cell (3 bits per channel: b >> 5, g >> 5, r >> 5) set where
+  // some colour of the cell can take the class: a first test that fits in one register.
+  static constexpr int kCoarseShift = 5;
+  std::uint64_t coarse_cells[kNumColorClasses][8] = {};
 
   static std::size_t inCube(int b, int g, int r) {
     constexpr int low = (1 << kCubeShift) - 1;
@@ -161,6 +171,11 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
         }
         const std::size_t cube = ClassLookup::cubeIndex(b0, g0, r0);
         lookup->cube_classes[cube] = mask;
+        const int coarse = ((b0 >> ClassLookup::kCoarseShift) << 6) | ((g0 >> ClassLookup::kCoarseShift) << 3) |
+                           (r0 >> ClassLookup::kCoarseShift);
+        for (int c = 0; c < kNumColorClasses; ++c) {
+          if (mask & classBit(static_cast<ColorClass>(c))) lookup->coarse_cells[c][coarse >> 6] |= 1ULL << (coarse & 63);
+        }
         if (uniform) {
           lookup->cube_block[cube] = ids[0];
         } else {
@@ -170,6 +185,8 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
       }
     }
   }
+  // The AVX-512 scan gathers 4 bytes per entry: padding keeps the last entry's read inside.
+  lookup->cube_classes.push_back(0);
   lookup->block_columns.shrink_to_fit();
   return lookup;
 }
@@ -403,7 +420,146 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
   }
 }
 
+#ifdef SV_HAVE_AVX512_KERNELS
+// An AVX-512 version of scanRow, chosen at run time (the build targets plain x86-64): up to
+// 16 grid points per step. The image bytes come from two masked 64-byte loads (never past
+// the points' own bytes) and a byte permutation, not a gather: the scan is the first touch
+// of those bytes, and Zen 4's gathers stall on such misses. Most points (carpet) are then
+// rejected by a test in registers (ClassLookup::coarse_cells) without touching the tables.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's intrinsics headers
+#define SV_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vbmi")))
+
+bool haveAvx512() {
+  static const bool have = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vbmi");
+  }();
+  return have;
+}
+
+struct Colours {
+  __m512i b, g, r;  // one point per 32-bit lane
+};
+
+SV_AVX512 inline __m512i lowByte(__m512i v) { return _mm512_and_si512(v, _mm512_set1_epi32(0xFF)); }
+// Byte `shift / 8` of each lane.
+SV_AVX512 inline __m512i byteOf(__m512i v, int shift) { return lowByte(_mm512_srlv_epi32(v, _mm512_set1_epi32(shift))); }
+SV_AVX512 inline __mmask16 firstLanes(int n) { return static_cast<__mmask16>(n >= 16 ? 0xFFFF : (1u << n) - 1); }
+
+// cubeOf per lane.
+SV_AVX512 inline __m512i cubeOf(const Colours& c) {
+  const __m512i b = _mm512_and_si512(_mm512_slli_epi32(c.b, 10), _mm512_set1_epi32(0x3F000));
+  const __m512i g = _mm512_and_si512(_mm512_slli_epi32(c.g, 4), _mm512_set1_epi32(0xFC0));
+  return _mm512_or_si512(_mm512_or_si512(b, g), _mm512_srli_epi32(c.r, 2));
+}
+
+// ClassLookup::coarse_cells of any class of `classes`.
+struct CoarseCells {
+  std::uint64_t bits[8] = {};
+  CoarseCells(const ClassLookup& lookup, ClassMask classes) {
+    for (int c = 0; c < kNumColorClasses; ++c) {
+      if (!(classes & classBit(static_cast<ColorClass>(c)))) continue;
+      for (int k = 0; k < 8; ++k) bits[k] |= lookup.coarse_cells[c][k];
+    }
+  }
+};
+
+// The lanes of `live` whose coarse cell is set in `cells` (CoarseCells::bits).
+SV_AVX512 inline __mmask16 coarseTest(const Colours& c, __m512i cells, __mmask16 live) {
+  constexpr int shift = ClassLookup::kCoarseShift;
+  // Bit r >> 5 of byte (b >> 5) * 8 + (g >> 5).
+  const __m512i byte_index =
+      _mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 3), _mm512_srli_epi32(c.g, shift));
+  const __m512i bytes = _mm512_permutexvar_epi8(byte_index, cells);
+  const __m512i bit = _mm512_sllv_epi32(_mm512_set1_epi32(1), _mm512_srli_epi32(c.r, shift));
+  return _mm512_mask_test_epi32_mask(live, bytes, bit);
+}
+
+// Bytes 0 .. n - 1 of two 64-byte loads.
+struct TwoLoads {
+  __mmask64 low, high;
+};
+inline TwoLoads firstBytes(int n) { return {n >= 64 ? ~0ULL : (1ULL << n) - 1, n > 64 ? ~0ULL >> (128 - n) : 0}; }
+// Bytes p[i * span + 0 .. 3] (zero where `bytes_kept` is clear) in lane i, picked from the
+// bytes of `loads` from p on.
+SV_AVX512 inline __m512i pickBytes(const std::uint8_t* p, TwoLoads loads, __m512i index, __mmask64 bytes_kept) {
+  const __m512i low = _mm512_maskz_loadu_epi8(loads.low, p);
+  const __m512i high = _mm512_maskz_loadu_epi8(loads.high, p + 64);
+  return _mm512_maskz_permutex2var_epi8(bytes_kept, low, index, high);
+}
+
+// scanRow, as many points at a time as lie in 128 bytes of each channel's row (at most 16).
+template <int Step>
+SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y,
+                             int x0, int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
+  const int span = Step * stride;  // bytes from one point to the next
+  constexpr int kPointBytes = Step == 3 ? 3 : 1;
+  const int per_step = std::min(16, (128 - kPointBytes) / span + 1);
+  const int points = (x1 - x0 + stride - 1) / stride;
+  int done = 0;
+  if (per_step >= 4) {
+    // Lane i picks bytes i * span + 0, 1, 2 (span <= 41: no carries between the bytes).
+    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)),
+                                           _mm512_set1_epi32(0x00020100));
+    const __m512i wanted = _mm512_set1_epi32(static_cast<int>(classes & 0xFFFF));
+    const __m512i cells = _mm512_loadu_si512(CoarseCells(lookup, classes).bits);
+    const std::uint8_t* base = std::min(row.b, std::min(row.g1, row.r));  // bgr8/rgb8: the pixel's first byte
+    for (; done < points; done += per_step) {
+      const int n = std::min(per_step, points - done);
+      const int x = x0 + done * stride;
+      const TwoLoads loads = firstBytes((n - 1) * span + kPointBytes);
+      Colours c;
+      if constexpr (Step == 3) {
+        const __m512i pixels = pickBytes(base + 3 * x, loads, index, 0x7777777777777777ULL);
+        c = {byteOf(pixels, 8 * int(row.b - base)), byteOf(pixels, 8 * int(row.g1 - base)),
+             byteOf(pixels, 8 * int(row.r - base))};
+      } else {
+        constexpr __mmask64 kFirstOfFour = 0x1111111111111111ULL;
+        const __m512i g1 = pickBytes(row.g1 + 2 * x, loads, index, kFirstOfFour);
+        const __m512i g2 = pickBytes(row.g2 + 2 * x, loads, index, kFirstOfFour);
+        c = {pickBytes(row.b + 2 * x, loads, index, kFirstOfFour),
+             _mm512_srli_epi32(_mm512_add_epi32(_mm512_add_epi32(g1, g2), _mm512_set1_epi32(1)), 1),
+             pickBytes(row.r + 2 * x, loads, index, kFirstOfFour)};
+      }
+      const __mmask16 may = coarseTest(c, cells, firstLanes(n));
+      if (!may) continue;
+      // The cube test of the rest: cube_classes entries gathered 4 bytes each (the table is padded).
+      const __m512i masks = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cubeOf(c),
+                                                        lookup.cube_classes.data(), 2);
+      unsigned candidates = _mm512_mask_test_epi32_mask(may, masks, wanted);
+      while (candidates) {
+        const int xi = x + __builtin_ctz(candidates) * stride;
+        candidates &= candidates - 1;
+        const std::size_t i = static_cast<std::size_t>(xi) * Step;
+        const unsigned b = row.b[i], r = row.r[i];
+        const unsigned g = Step == 3 ? row.g1[i] : (row.g1[i] + row.g2[i] + 1u) >> 1;
+        checkGridPoint(lookup, adjusted, xi, y, b, g, r, classes, hits);
+      }
+    }
+  }
+  const int rest = x0 + done * stride;
+  if (rest < x1) scanRow<Step>(lookup, row, adjusted, y, rest, x1, stride, classes, hits);
+}
+#pragma GCC diagnostic pop
+#endif
+
 constexpr ClassMask kAllClasses = (ClassMask(1) << kNumColorClasses) - 1;
+
+// Asks for the image bytes of label pixels x0 .. x1 - 1 of label row y ahead of their use:
+// the hardware prefetchers follow a row, but not the jump to the next one the loops make.
+void prefetchLabelRow(const cv::Mat& image, PixelLayout layout, int y, int x0, int x1) {
+  if (x0 >= x1) return;
+  const int rows = isBayer(layout) ? 2 : 1, bytes_per_pixel = isBayer(layout) ? 2 : 3;
+  for (int i = 0; i < rows; ++i) {
+    const std::uint8_t* p = image.ptr<std::uint8_t>(rows * y + i);
+    const std::uint8_t* end = p + static_cast<std::ptrdiff_t>(x1) * bytes_per_pixel;
+    for (p += static_cast<std::ptrdiff_t>(x0) * bytes_per_pixel; p < end; p += 64) __builtin_prefetch(p);
+    __builtin_prefetch(end - 1);
+  }
+}
 
 RowAdjustment rowAdjustment(const cv::Mat& offsets, const cv::Mat& gains, int block_shift, int y) {
   return {offsets.ptr<std::int16_t>(y >> block_shift), gains.ptr<std::uint16_t>(y >> block_shift), block_shift};
@@ -496,6 +652,15 @@ void FrameClassifier::scanRowPoints(int y, int x0, int x1, int step, ClassMask c
     return;
   }
   const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
+  // The next row of a grid (scanGrid's and the region extractor's rows step as their points).
+  if (y + step < label_size_.height) prefetchLabelRow(image_, layout_, y + step, x0, x1);
+#ifdef SV_HAVE_AVX512_KERNELS
+  if (haveAvx512()) {
+    row.step == 3 ? scanRowAvx512<3>(lookup, row, adjusted, y, x0, x1, step, classes, hits)
+                  : scanRowAvx512<2>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
+    return;
+  }
+#endif
   if (row.step == 3) {
     scanRow<3>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
   } else {
