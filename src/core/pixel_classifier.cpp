@@ -18,6 +18,7 @@
 #include "soccer_vision/pixel_classifier.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -420,6 +421,8 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
   }
 }
 
+std::atomic<bool> simd_allowed{true};  // detail::allowSimdKernels
+
 #ifdef SV_HAVE_AVX512_KERNELS
 // An AVX-512 version of scanRow, chosen at run time (the build targets plain x86-64): up to
 // 16 grid points per step. The image bytes come from two masked 64-byte loads (never past
@@ -431,6 +434,7 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
 #define SV_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vbmi")))
 
 bool haveAvx512() {
+  if (!simd_allowed.load(std::memory_order_relaxed)) return false;
   static const bool have = [] {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
@@ -667,5 +671,7 @@ void FrameClassifier::scanRowPoints(int y, int x0, int x1, int step, ClassMask c
     scanRow<2>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
   }
 }
+
+void detail::allowSimdKernels(bool allowed) { simd_allowed.store(allowed, std::memory_order_relaxed); }
 
 }  // namespace soccer_vision

@@ -351,7 +351,14 @@ TEST(FrameClassifier, BayerLayoutsMatchTheRenderersEncodings) {
   }
 }
 
-TEST(FrameClassifier, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
+// Both kernels of the scan (the AVX-512 one where the CPU has it, and the portable one).
+class ScanKernels : public ::testing::TestWithParam<bool> {
+ protected:
+  void SetUp() override { detail::allowSimdKernels(GetParam()); }
+  void TearDown() override { detail::allowSimdKernels(true); }
+};
+
+TEST_P(ScanKernels, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
   const World& w = world();
   const cv::Mat bgr = w.frame;
   const cv::Mat raw = mosaic(bgr, "grbg");
@@ -362,7 +369,7 @@ TEST(FrameClassifier, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
     const cv::Size size = fc.labelSize();
     for (const cv::Rect rect : {cv::Rect(0, 0, size.width, size.height), cv::Rect(101, 58, 333, 250),
                                 cv::Rect(size.width - 41, size.height - 40, 41, 40), cv::Rect(5, 5, 0, 9)}) {
-      for (int stride : {1, 3, 4}) {
+      for (int stride : {1, 2, 3, 4}) {
         for (ClassMask classes : {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Blue),
                                   classBit(ColorClass::None), ClassMask(0)}) {
           std::vector<cv::Point> expected;
@@ -386,6 +393,9 @@ TEST(FrameClassifier, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(FrameClassifier, ScanKernels, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool>& info) { return info.param ? "Simd" : "Portable"; });
 
 // classify(rect, out, keep) equals classify(rect, out) with the other classes set to None,
 // for every layout, with and without sharpening.
