@@ -136,6 +136,23 @@ void squareRows(const BitMask& in, int first, int last, int row_begin, int row_e
   for (int y = row_end; y < height; ++y) std::fill(out.row(y), out.row(y) + words, 0);
   const std::uint64_t identity = kErode ? ~std::uint64_t(0) : 0;
   const std::uint64_t tail = in.validBits(words - 1);
+  if (words == 1) {
+    // Areas up to 64 px wide (most of the region extractor's): the row in a register,
+    // between its identity words.
+    for (int y = row_begin; y < row_end; ++y) {
+      std::uint64_t window[3] = {identity, in.row(y)[0], identity};
+      for (int d = std::max(first, -y); d <= std::min(last, height - 1 - y); ++d) {
+        if (d != 0) window[1] = combine<kErode>(window[1], in.row(y + d)[0]);
+      }
+      window[1] |= identity & ~tail;
+      if constexpr (First <= Last) {
+        out.row(y)[0] = rowWindow<kErode, First, Last>(window + 1) & tail;
+      } else {
+        out.row(y)[0] = rowWindow<kErode>(window + 1, first, last) & tail;
+      }
+    }
+    return;
+  }
   padded.resize(static_cast<std::size_t>(words) + 2);
   std::uint64_t* column = padded.data() + 1;
   column[-1] = identity;
