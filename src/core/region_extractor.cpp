@@ -62,6 +62,7 @@ struct RegionScratch {
   std::vector<cv::Point> hits;
   std::vector<cv::Rect> scanned;                // the search windows in the image
   std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
+  std::vector<int> edges;                       // of the scan: the windows' top and bottom rows
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
   cv::Mat patch;                    // labels of the patch around a hit
   std::vector<std::uint8_t> pending;  // per hit: its opening test is left to its area
@@ -114,23 +115,30 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
   if (rects.empty()) return 0;
   std::uint32_t looked_up = 0;
   auto& spans = s.spans;
-  int y_begin = image.height, y_end = 0;
-  for (const cv::Rect& r : rects) y_begin = std::min(y_begin, r.y), y_end = std::max(y_end, r.br().y);
-  const int row_step = checkerboard ? 1 : stride;
-  for (int y = (y_begin + row_step - 1) / row_step * row_step; y < y_end; y += row_step) {
+  // Between consecutive window edges every row meets the same windows: their union's spans
+  // are merged once per band of rows, and the stride grid of a span is scanned in one call.
+  auto& edges = s.edges;
+  edges.clear();
+  for (const cv::Rect& r : rects) edges.insert(edges.end(), {r.y, r.br().y});
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
+    const int band_begin = edges[e], band_end = edges[e + 1];
     spans.clear();
     for (const cv::Rect& r : rects) {
-      if (r.y <= y && y < r.br().y) spans.emplace_back(r.x, r.br().x);
+      if (r.y <= band_begin && band_begin < r.br().y) spans.emplace_back(r.x, r.br().x);
     }
     mergeSpans(spans);
     for (const auto& [x0, x1] : spans) {
       if (checkerboard) {
-        const int first = x0 + ((x0 + y) & 1);
-        frame.scanPoints(y, first, x1, 2, classes, s.hits);
-        looked_up += static_cast<std::uint32_t>(first < x1 ? (x1 - first + 1) / 2 : 0);
+        for (int y = band_begin; y < band_end; ++y) {
+          const int first = x0 + ((x0 + y) & 1);
+          frame.scanPoints(y, first, x1, 2, classes, s.hits);
+          looked_up += static_cast<std::uint32_t>(first < x1 ? (x1 - first + 1) / 2 : 0);
+        }
       } else {
-        frame.scanGrid(cv::Rect(x0, y, x1 - x0, 1), stride, classes, s.hits);
-        looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride));
+        frame.scanGrid(cv::Rect(x0, band_begin, x1 - x0, band_end - band_begin), stride, classes, s.hits);
+        looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride) * multiplesIn(band_begin, band_end, stride));
       }
     }
   }
@@ -403,8 +411,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     if (!(w & image).empty()) s.scanned.push_back(w & image);
   }
   stats.grid_points += scanUnion(frame, s.scanned, stride, rule.pair, image, params_.classes, s);
-  // In raster order (the scan of the last column and row appends out of it), so that each
-  // area finds its hits by rows instead of testing every hit of the frame.
+  // In raster order (the scan goes band by band and span by span, and appends the last column
+  // and row), so that each area finds its hits by rows instead of testing every hit.
   const auto raster = [](const cv::Point& a, const cv::Point& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; };
   if (!std::is_sorted(s.hits.begin(), s.hits.end(), raster)) std::sort(s.hits.begin(), s.hits.end(), raster);
   // Hits that do not survive the opening are dropped (colour noise then costs a few
