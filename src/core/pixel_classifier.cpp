@@ -188,6 +188,8 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   }
   // The AVX-512 scan gathers 4 bytes per entry: padding keeps the last entry's read inside.
   lookup->cube_classes.push_back(0);
+  lookup->block_columns.push_back(0);  // the same for the AVX-512 classification's gathers
+  lookup->column_classes.insert(lookup->column_classes.end(), 3, 0);
   lookup->block_columns.shrink_to_fit();
   return lookup;
 }
@@ -547,6 +549,73 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
   const int rest = x0 + done * stride;
   if (rest < x1) scanRow<Step>(lookup, row, adjusted, y, rest, x1, stride, classes, hits);
 }
+
+// classifyRowKeeping, 16 label pixels per step: colours picked as by the scan, then the
+// three lookups of ClassLookup::classAt as gathers (the tables are padded for their 4-byte
+// reads), the V adjustment of the (at most two) blocks the 16 pixels lie in.
+template <int Step>
+SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted,
+                                 int x0, int x1, ClassMask keep, std::uint8_t* out) {
+  constexpr int span = Step;  // bytes from one label pixel to the next
+  constexpr int kPointBytes = Step == 3 ? 3 : 1;
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)),
+                                         _mm512_set1_epi32(0x00020100));
+  const __m512i wanted = _mm512_set1_epi32(static_cast<int>(keep & 0xFFFF));
+  const __m512i zero = _mm512_setzero_si512(), three = _mm512_set1_epi32(3);
+  const __m128i shift = _mm_cvtsi32_si128(adjusted.block_shift);
+  const std::uint8_t* base = std::min(row.b, std::min(row.g1, row.r));  // bgr8/rgb8: the pixel's first byte
+  for (int x = x0; x < x1; x += 16) {
+    const int n = std::min(16, x1 - x);
+    const __mmask16 live = firstLanes(n);
+    const TwoLoads loads = firstBytes((n - 1) * span + kPointBytes);
+    Colours c;
+    if constexpr (Step == 3) {
+      const __m512i pixels = pickBytes(base + 3 * x, loads, index, 0x7777777777777777ULL);
+      c = {byteOf(pixels, 8 * int(row.b - base)), byteOf(pixels, 8 * int(row.g1 - base)),
+           byteOf(pixels, 8 * int(row.r - base))};
+    } else {
+      constexpr __mmask64 kFirstOfFour = 0x1111111111111111ULL;
+      const __m512i g1 = pickBytes(row.g1 + 2 * x, loads, index, kFirstOfFour);
+      const __m512i g2 = pickBytes(row.g2 + 2 * x, loads, index, kFirstOfFour);
+      c = {pickBytes(row.b + 2 * x, loads, index, kFirstOfFour),
+           _mm512_srli_epi32(_mm512_add_epi32(_mm512_add_epi32(g1, g2), _mm512_set1_epi32(1)), 1),
+           pickBytes(row.r + 2 * x, loads, index, kFirstOfFour)};
+    }
+    const __m512i cube = cubeOf(c);
+    const __m512i masks = _mm512_mask_i32gather_epi32(zero, live, cube, lookup.cube_classes.data(), 2);
+    const __mmask16 may = _mm512_mask_test_epi32_mask(live, masks, wanted);
+    __m512i label = zero;
+    if (may) {
+      const __m512i block = _mm512_mask_i32gather_epi32(zero, may, cube, lookup.cube_block.data(), 4);
+      const __m512i in_cube = _mm512_or_si512(
+          _mm512_or_si512(_mm512_slli_epi32(_mm512_and_si512(c.b, three), 4), _mm512_slli_epi32(_mm512_and_si512(c.g, three), 2)),
+          _mm512_and_si512(c.r, three));
+      const __m512i column = _mm512_and_si512(
+          _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(block, 6), in_cube),
+                                      lookup.block_columns.data(), 2),
+          _mm512_set1_epi32(0xFFFF));
+      // The block of each pixel: the first one's, or the next one's from where it begins.
+      const int first = x >> adjusted.block_shift, last = (x + n - 1) >> adjusted.block_shift;
+      const __mmask16 next = _mm512_cmpgt_epi32_mask(_mm512_srl_epi32(_mm512_add_epi32(_mm512_set1_epi32(x), lanes), shift),
+                                                     _mm512_set1_epi32(first));
+      const __m512i gain = _mm512_mask_blend_epi32(next, _mm512_set1_epi32(adjusted.gains[first]),
+                                                   _mm512_set1_epi32(adjusted.gains[last]));
+      const __m512i offset = _mm512_mask_blend_epi32(next, _mm512_set1_epi32(adjusted.offsets[first]),
+                                                     _mm512_set1_epi32(adjusted.offsets[last]));
+      const __m512i v = _mm512_max_epi32(_mm512_max_epi32(c.b, c.g), c.r);
+      const __m512i scaled = _mm512_srli_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v, gain), _mm512_set1_epi32(128)), 8);
+      const __m512i level =
+          _mm512_min_epi32(_mm512_max_epi32(_mm512_add_epi32(scaled, offset), zero), _mm512_set1_epi32(255));
+      label = _mm512_and_si512(_mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(column, 8), level),
+                                                           lookup.column_classes.data(), 1),
+                               _mm512_set1_epi32(0xFF));
+      const __mmask16 kept = _mm512_mask_test_epi32_mask(may, _mm512_sllv_epi32(_mm512_set1_epi32(1), label), wanted);
+      label = _mm512_maskz_mov_epi32(kept, label);
+    }
+    _mm_mask_storeu_epi8(out + (x - x0), live, _mm512_cvtepi32_epi8(label));
+  }
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -585,6 +654,13 @@ void FrameClassifier::classify(const cv::Rect& rect, cv::Mat& out, ClassMask kee
     const LabelRow row = labelRow(image_, layout_, y);
     const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
     const int x0 = rect.x, x1 = rect.x + rect.width;
+#ifdef SV_HAVE_AVX512_KERNELS
+    if (haveAvx512()) {
+      row.step == 3 ? classifyRowAvx512<3>(lookup, row, adjusted, x0, x1, keep, labels)
+                    : classifyRowAvx512<2>(lookup, row, adjusted, x0, x1, keep, labels);
+      continue;
+    }
+#endif
     if (all) {
       row.step == 3 ? classifyRow<3>(lookup, row, adjusted, x0, x1, labels)
                     : classifyRow<2>(lookup, row, adjusted, x0, x1, labels);

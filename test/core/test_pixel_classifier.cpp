@@ -394,6 +394,42 @@ TEST_P(ScanKernels, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
   }
 }
 
+// classify's kernels against classifyPixel (the scalar definition) on rects of every
+// width up to 40 and odd offsets (tails of the 16-pixel steps, rects across blocks).
+TEST_P(ScanKernels, ClassifyEqualsClassifyPixelOnEveryRect) {
+  const World& w = world();
+  const BlockOffsets offsets = patternedOffsets(w.frame.size());
+  for (const auto& [image, layout] : {std::pair{w.frame, PixelLayout::Bgr}, {mosaic(w.frame, "bggr"), PixelLayout::BayerBggr}}) {
+    const FrameClassifier fc(*w.classifier, image, layout, offsets);
+    const cv::Size size = fc.labelSize();
+    for (ClassMask keep : {~ClassMask(0), markerClassMask(), classBit(ColorClass::Blue) | classBit(ColorClass::Yellow)}) {
+      int wrong = 0, marked = 0;
+      for (int width = 1; width <= 40; ++width) {
+        const cv::Rect rect((width * 37) % (size.width - 40), (width * 23) % (size.height - 8), width, 8);
+        cv::Mat labels;
+        fc.classify(rect, labels, keep);
+        for (int y = 0; y < rect.height; ++y) {
+          for (int x = 0; x < rect.width; ++x) {
+            const std::uint8_t expected = fc.classifyPixel(rect.x + x, rect.y + y, keep);
+            wrong += labels.at<std::uint8_t>(y, x) != expected;
+          }
+        }
+      }
+      cv::Mat whole;
+      fc.classify(cv::Rect(0, 0, size.width, size.height), whole, keep);
+      for (int y = 0; y < size.height; y += 2) {
+        for (int x = 0; x < size.width; ++x) {
+          const std::uint8_t expected = fc.classifyPixel(x, y, keep);
+          wrong += whole.at<std::uint8_t>(y, x) != expected;
+          marked += expected != 0;
+        }
+      }
+      EXPECT_EQ(wrong, 0) << static_cast<int>(layout) << " keep " << keep;
+      EXPECT_GT(marked, 20);  // the kept classes are there to be found
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(FrameClassifier, ScanKernels, ::testing::Values(true, false),
                          [](const ::testing::TestParamInfo<bool>& info) { return info.param ? "Simd" : "Portable"; });
 
