@@ -33,10 +33,6 @@ namespace soccer_vision {
 
 namespace detail {
 struct ClassLookup;  // the re-indexed table, defined in pixel_classifier.cpp
-// The grid scan has an AVX-512 kernel, chosen at run time where the CPU has it; false here
-// makes every scan take the portable kernel (tests compare the two), true again lets the
-// CPU decide. Results are equal either way.
-void allowSimdKernels(bool allowed);
 }
 
 enum class PixelLayout { Bgr, Rgb, BayerRggb, BayerBggr, BayerGbrg, BayerGrbg };

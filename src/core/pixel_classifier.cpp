@@ -18,11 +18,12 @@
 #include "soccer_vision/pixel_classifier.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 #include <string>
+
+#include "soccer_vision/simd_kernels.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -423,8 +424,6 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
   }
 }
 
-std::atomic<bool> simd_allowed{true};  // detail::allowSimdKernels
-
 #ifdef SV_HAVE_AVX512_KERNELS
 // An AVX-512 version of scanRow, chosen at run time (the build targets plain x86-64): up to
 // 16 grid points per step. The image bytes come from two masked 64-byte loads (never past
@@ -435,15 +434,6 @@ std::atomic<bool> simd_allowed{true};  // detail::allowSimdKernels
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's intrinsics headers
 #define SV_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vbmi")))
 
-bool haveAvx512() {
-  if (!simd_allowed.load(std::memory_order_relaxed)) return false;
-  static const bool have = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-           __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vbmi");
-  }();
-  return have;
-}
 
 struct Colours {
   __m512i b, g, r;  // one point per 32-bit lane
@@ -655,7 +645,7 @@ void FrameClassifier::classify(const cv::Rect& rect, cv::Mat& out, ClassMask kee
     const RowAdjustment adjusted = rowAdjustment(offsets_, gains_, block_shift_, y);
     const int x0 = rect.x, x1 = rect.x + rect.width;
 #ifdef SV_HAVE_AVX512_KERNELS
-    if (haveAvx512()) {
+    if (detail::useAvx512Kernels()) {
       row.step == 3 ? classifyRowAvx512<3>(lookup, row, adjusted, x0, x1, keep, labels)
                     : classifyRowAvx512<2>(lookup, row, adjusted, x0, x1, keep, labels);
       continue;
@@ -735,7 +725,7 @@ void FrameClassifier::scanRowPoints(int y, int x0, int x1, int step, ClassMask c
   // The next row of a grid (scanGrid's and the region extractor's rows step as their points).
   if (y + step < label_size_.height) prefetchLabelRow(image_, layout_, y + step, x0, x1);
 #ifdef SV_HAVE_AVX512_KERNELS
-  if (haveAvx512()) {
+  if (detail::useAvx512Kernels()) {
     row.step == 3 ? scanRowAvx512<3>(lookup, row, adjusted, y, x0, x1, step, classes, hits)
                   : scanRowAvx512<2>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
     return;
@@ -747,7 +737,5 @@ void FrameClassifier::scanRowPoints(int y, int x0, int x1, int step, ClassMask c
     scanRow<2>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
   }
 }
-
-void detail::allowSimdKernels(bool allowed) { simd_allowed.store(allowed, std::memory_order_relaxed); }
 
 }  // namespace soccer_vision

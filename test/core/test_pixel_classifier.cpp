@@ -19,6 +19,7 @@
 #include "soccer_vision/game_simulator.h"
 #include "soccer_vision/illumination_adaptation.h"
 #include "soccer_vision/pixel_classifier.h"
+#include "soccer_vision/simd_kernels.h"
 
 using namespace soccer_vision;
 
