@@ -23,12 +23,13 @@ struct CoverageScratch {
   // Bit rows (bit x + 2, 64 px a word) over the region's bbox grown by its 2-pixel ring
   // (and 2 more rows each side): membership, membership dilated along rows.
   std::vector<std::uint64_t> member, near_in_row;
-  // The samples in raster order, in runs of one kind (ring, edge, interior) along a row.
+  // The samples in raster order, in runs of one kind (ring, region) along a row.
   struct Segment {
     int x, y, length;  // relative to the bbox
   };
   std::vector<Segment> segments;
-  std::vector<std::int32_t> colors;  // columns: B, G, R of every sample, B, G, R of the ring's
+  std::vector<std::int32_t> colors;  // columns: B, G, R of every sample
+  std::vector<double> ring_colors;  // columns: B, G, R of the ring's samples
   std::vector<double> alphas;  // coverage per sample
 };
 

@@ -67,35 +67,38 @@ inline std::uint64_t bitRange(int lo, int hi) {
   return (hi == kWordBits ? ~std::uint64_t{0} : (std::uint64_t{1} << hi) - 1) & ~((std::uint64_t{1} << lo) - 1);
 }
 
-// The colours (B, G, R) of the `length` label pixels of `row` from `x`, written to the
-// columns `out` (and `copy` when Copy) and added to `sum`.
-template <bool Copy>
-inline void copyColors(const LabelRow& row, int x, int length, std::array<std::int32_t*, 3> out,
-                       std::array<std::int32_t*, 3> copy, std::array<int, 3>& sum) {
-  const std::ptrdiff_t step = row.step;
-  const std::uint8_t* b = row.b + x * step;
-  const std::uint8_t* g1 = row.g1 + x * step;
-  const std::uint8_t* g2 = row.g2 + x * step;
-  const std::uint8_t* r = row.r + x * step;
-  int sum_b = 0, sum_g = 0, sum_r = 0;
+// The colour (B, G, R) of the label pixel `at` (byte offset) of `row`.
+inline std::array<int, 3> colorAt(const LabelRow& row, std::ptrdiff_t at) {
+  return {row.b[at], (row.g1[at] + row.g2[at] + 1) >> 1, row.r[at]};
+}
+
+// The colours of the `length` ring pixels of `row` from `x`, written to the columns `out`
+// and, as doubles, `ring`, and added to `sum`.
+inline void copyRing(const LabelRow& row, int x, int length, std::array<std::int32_t*, 3> out,
+                     std::array<double*, 3> ring, std::array<int, 3>& sum) {
   for (int k = 0; k < length; ++k) {
-    const std::ptrdiff_t at = k * step;
-    const int blue = b[at], green = (g1[at] + g2[at] + 1) >> 1, red = r[at];
-    out[0][k] = blue;
-    out[1][k] = green;
-    out[2][k] = red;
-    if (Copy) {
-      copy[0][k] = blue;
-      copy[1][k] = green;
-      copy[2][k] = red;
+    const std::array<int, 3> color = colorAt(row, static_cast<std::ptrdiff_t>(x + k) * row.step);
+    for (int c = 0; c < 3; ++c) {
+      out[c][k] = color[c];
+      ring[c][k] = color[c];
+      sum[c] += color[c];
     }
-    sum_b += blue;
-    sum_g += green;
-    sum_r += red;
   }
-  sum[0] += sum_b;
-  sum[1] += sum_g;
-  sum[2] += sum_r;
+}
+
+// The colours of the `length` region pixels of `row` from `x`, written to the columns
+// `out` and added to `sum`, and to `interior_sum` where bit k of `interior` is set.
+inline void copyRegion(const LabelRow& row, int x, int length, std::uint64_t interior, std::array<std::int32_t*, 3> out,
+                       std::array<int, 3>& sum, std::array<int, 3>& interior_sum) {
+  for (int k = 0; k < length; ++k) {
+    const std::array<int, 3> color = colorAt(row, static_cast<std::ptrdiff_t>(x + k) * row.step);
+    const int mask = -static_cast<int>(interior >> k & 1);
+    for (int c = 0; c < 3; ++c) {
+      out[c][k] = color[c];
+      sum[c] += color[c];
+      interior_sum[c] += color[c] & mask;
+    }
+  }
 }
 
 // The coverage weighting of the header. The ring around the region is kRing = 2 px wide,
@@ -120,23 +123,24 @@ bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
     }
   }
   // Samples in raster order (the sums below depend on the order in their last bits), in
-  // segments of one kind (ring, edge of the region, interior): their positions, and their
-  // colours as columns (B, G, R of every sample, then of the ring's). The colour sums are
-  // of integers: exact.
+  // segments of one kind (ring, region): their positions, and their colours as columns
+  // (B, G, R of every sample, then of the ring's). The colour sums are of integers: exact.
   const int x_begin = std::max(-kRing, -bbox.x), x_end = std::min(bbox.width + kRing, image.width - bbox.x);
   const int y_begin = std::max(-kRing, -bbox.y), y_end = std::min(bbox.height + kRing, image.height - bbox.y);
   const std::size_t capacity = static_cast<std::size_t>(x_end - x_begin) * (y_end - y_begin);
   if (s.alphas.size() < capacity) {
     s.segments.resize(capacity);
-    s.colors.resize(6 * capacity);
+    s.colors.resize(3 * capacity);
+    s.ring_colors.resize(3 * capacity);
     s.alphas.resize(capacity);
   }
   std::int32_t* const colors = s.colors.data();
   const std::array<std::int32_t*, 3> all = {colors, colors + capacity, colors + 2 * capacity};
-  const std::array<std::int32_t*, 3> ring = {colors + 3 * capacity, colors + 4 * capacity, colors + 5 * capacity};
+  double* const ring_colors = s.ring_colors.data();
+  const std::array<double*, 3> ring = {ring_colors, ring_colors + capacity, ring_colors + 2 * capacity};
   CoverageScratch::Segment* const segments = s.segments.data();
-  std::array<int, 3> ring_sum{}, edge_sum{}, interior_sum{};
-  int n = 0, ring_n = 0, edge_n = 0, interior_n = 0, segment_n = 0;
+  std::array<int, 3> ring_sum{}, region_sum{}, interior_sum{};
+  int n = 0, ring_n = 0, region_n = 0, interior_n = 0, segment_n = 0;
   for (int y = y_begin; y < y_end; ++y) {
     const LabelRow row = frame.row(bbox.y + y);
     const std::uint64_t* near_in_row = s.near_in_row.data() + bits.at(y);
@@ -152,24 +156,21 @@ bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
       // Interior: the member and its 4 neighbours.
       const std::uint64_t interior_bits = member[i] & shifted(member, words, i, 1) & shifted(member, words, i, -1) &
                                           member[static_cast<std::ptrdiff_t>(i) - words] & member[i + words];
-      const std::uint64_t edge_bits = member[i] & ~interior_bits;
+      interior_n += __builtin_popcountll(interior_bits);
       while (todo != 0) {
         const int first = __builtin_ctzll(todo);
-        const std::uint64_t kind = ring_bits >> first & 1 ? ring_bits : interior_bits >> first & 1 ? interior_bits : edge_bits;
-        const std::uint64_t rest = ~(kind >> first);  // its lowest set bit ends the segment
+        const bool in_ring = ring_bits >> first & 1;
+        const std::uint64_t rest = ~((in_ring ? ring_bits : member[i]) >> first);  // its lowest set bit ends the segment
         const int length = rest == 0 ? kWordBits : __builtin_ctzll(rest);
         const int x = i * kWordBits + first - kRing;
         segments[segment_n++] = {x, y, length};
         const std::array<std::int32_t*, 3> out = {all[0] + n, all[1] + n, all[2] + n};
-        if (kind == ring_bits) {
-          copyColors<true>(row, bbox.x + x, length, out, {ring[0] + ring_n, ring[1] + ring_n, ring[2] + ring_n}, ring_sum);
+        if (in_ring) {
+          copyRing(row, bbox.x + x, length, out, {ring[0] + ring_n, ring[1] + ring_n, ring[2] + ring_n}, ring_sum);
           ring_n += length;
-        } else if (kind == interior_bits) {
-          copyColors<false>(row, bbox.x + x, length, out, {}, interior_sum);
-          interior_n += length;
         } else {
-          copyColors<false>(row, bbox.x + x, length, out, {}, edge_sum);
-          edge_n += length;
+          copyRegion(row, bbox.x + x, length, interior_bits >> first, out, region_sum, interior_sum);
+          region_n += length;
         }
         n += length;
         const int end = first + length;
@@ -178,9 +179,7 @@ bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
     }
   }
   auto vec = [](const std::array<int, 3>& v) { return cv::Vec3d(v[0], v[1], v[2]); };
-  const std::array<int, 3> region_sum = {edge_sum[0] + interior_sum[0], edge_sum[1] + interior_sum[1],
-                                         edge_sum[2] + interior_sum[2]};
-  const cv::Vec3d inner = interior_n > 0 ? vec(interior_sum) / interior_n : vec(region_sum) / (edge_n + interior_n);
+  const cv::Vec3d inner = interior_n > 0 ? vec(interior_sum) / interior_n : vec(region_sum) / region_n;
   // Pass 1: the plain mean of the ring; pass 2: weighted by 1 - coverage.
   if (ring_n == 0) return false;
   cv::Vec3d background = vec(ring_sum) / static_cast<double>(ring_n);
@@ -190,10 +189,10 @@ bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
   // Coverages of `count` colours (columns) into alphas (independent divisions: a loop the
   // compiler vectorises).
   double* const alphas = s.alphas.data();
-  auto coverages = [&](const std::array<std::int32_t*, 3>& color, int count) {
+  auto coverages = [&](const auto& color, int count) {
     const double b0 = background[0], b1 = background[1], b2 = background[2];
     const double k0 = contrast[0], k1 = contrast[1], k2 = contrast[2], k = contrast2;
-    const std::int32_t *b = color[0], *g = color[1], *rr = color[2];
+    const auto *b = color[0], *g = color[1], *rr = color[2];
     for (int j = 0; j < count; ++j) {
       const double projection = (b[j] - b0) * k0 + (g[j] - b1) * k1 + (rr[j] - b2) * k2;  // cv::Vec's order
       alphas[j] = std::min(std::max(projection / k, 0.0), 1.0);  // = std::clamp, without branches
