@@ -20,13 +20,16 @@ void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Regio
 
 // Reusable buffers of coverageMoments (one per thread).
 struct CoverageScratch {
-  std::vector<std::uint8_t> inside, near, near_in_row;  // membership, within the ring of it
-  struct Sample {
-    int x, y;  // relative to the region's bbox
-    cv::Vec3d color;  // B, G, R
-    bool in_region;
+  // Bit rows (bit x + 2, 64 px a word) over the region's bbox grown by its 2-pixel ring
+  // (and 2 more rows each side): membership, membership dilated along rows.
+  std::vector<std::uint64_t> member, near_in_row;
+  // The samples in raster order, in runs of one kind (ring, region) along a row.
+  struct Segment {
+    int x, y, length;  // relative to the bbox
   };
-  std::vector<Sample> samples;
+  std::vector<Segment> segments;
+  std::vector<std::int32_t> colors;  // columns: B, G, R of every sample
+  std::vector<double> ring_colors;  // columns: B, G, R of the ring's samples
   std::vector<double> alphas;  // coverage per sample
 };
 
