@@ -28,11 +28,15 @@ inline std::uint64_t shifted(const std::uint64_t* row, int words, int i, int k) 
   return row[i] >> -k | (i + 1 < words ? row[i + 1] << (kWordBits + k) : 0);
 }
 
+// Bits [lo, hi) of a word (0 <= lo < hi <= 64).
+inline std::uint64_t bitRange(int lo, int hi) {
+  return (hi == kWordBits ? ~std::uint64_t{0} : (std::uint64_t{1} << hi) - 1) & ~((std::uint64_t{1} << lo) - 1);
+}
+
 // Bits [begin, end) (begin < end) of a row.
 inline void setBits(std::uint64_t* row, int begin, int end) {
   for (int i = begin / kWordBits; i <= (end - 1) / kWordBits; ++i) {
-    const int lo = std::max(begin - i * kWordBits, 0), hi = std::min(end - i * kWordBits, kWordBits);
-    row[i] |= (hi == kWordBits ? ~std::uint64_t{0} : (std::uint64_t{1} << hi) - 1) & ~((std::uint64_t{1} << lo) - 1);
+    row[i] |= bitRange(std::max(begin - i * kWordBits, 0), std::min(end - i * kWordBits, kWordBits));
   }
 }
 
@@ -61,11 +65,6 @@ struct MomentSums {
     r.orientation = 0.5 * std::atan2(2 * r.mu11, r.mu20 - r.mu02);
   }
 };
-
-// Bits [lo, hi) of a word (0 <= lo < hi <= 64).
-inline std::uint64_t bitRange(int lo, int hi) {
-  return (hi == kWordBits ? ~std::uint64_t{0} : (std::uint64_t{1} << hi) - 1) & ~((std::uint64_t{1} << lo) - 1);
-}
 
 // The colour (B, G, R) of the label pixel `at` (byte offset) of `row`.
 inline std::array<int, 3> colorAt(const LabelRow& row, std::ptrdiff_t at) {
