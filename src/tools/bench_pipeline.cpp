@@ -5,7 +5,7 @@
 // offline evaluation runs). A benchmark, not a test.
 //
 //   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N]
-//       [--width W --height H] [--cold] [--json FILE]
+//       [--width W --height H] [--cold] [--repeat R] [--json FILE]
 //
 // Frames of synthetic camera 0 are rendered first (not timed), with the scenario's pattern
 // and a colour table calibrated like the demo's; then each frame is processed in order on
@@ -13,7 +13,11 @@
 // timed), as the CameraDriver nodelet's source writes each image into the message it then
 // publishes: the pipeline meets the frame where the driver's write left it (the caches), as
 // in the nodelet manager. --cold processes the rendered frames where they are instead: 300
-// frames of 4 MB are far out of the caches, as a frame a camera's DMA wrote to memory. Prints p50 / p99 / max of the total and of each stage (Table II's:
+// frames of 4 MB are far out of the caches, as a frame a camera's DMA wrote to memory.
+// --repeat R runs the frames R times, each time with a fresh pipeline, and takes per frame
+// and stage the fastest pass: the work without the interference of a shared machine (on
+// ours a single pass's p99 varies by up to 1.5x from run to run); each pass's p99 is
+// printed too. Prints p50 / p99 / max of the total and of each stage (Table II's:
 // illumination, pixel classification, recognition and pose, tracking), the share of frames
 // searched in windows, and the robots found per frame.
 #include <algorithm>
@@ -44,6 +48,7 @@ struct Options {
   int frames = 300, width = 0, height = 0;
   std::string json;
   bool cold = false;
+  int repeat = 1;
 };
 
 Options parse(int argc, char** argv) {
@@ -60,9 +65,11 @@ Options parse(int argc, char** argv) {
     else if (a == "--height") o.height = std::stoi(value());
     else if (a == "--json") o.json = value();
     else if (a == "--cold") o.cold = true;
-    else throw std::invalid_argument("unknown argument '" + a + "' (--scenario, --frames, --width, --height, --cold, --json)");
+    else if (a == "--repeat") o.repeat = std::stoi(value());
+    else throw std::invalid_argument("unknown argument '" + a + "' (--scenario, --frames, --width, --height, --cold, --repeat, --json)");
   }
   if (o.frames < 10) throw std::invalid_argument("--frames must be >= 10");
+  if (o.repeat < 1) throw std::invalid_argument("--repeat must be >= 1");
   return o;
 }
 
@@ -102,33 +109,45 @@ int main(int argc, char** argv) {
       sim.step(1.0 / scenario.fps);
     }
 
-    // The nodelets' loop in one process (vision_pipeline.h), timed per stage.
+    // The nodelets' loop in one process (vision_pipeline.h), timed per stage; `repeat`
+    // passes over the same frames, each with a fresh pipeline (the same work: the pipeline
+    // is deterministic), and per frame and stage the fastest of them.
     sv::PipelineCamera pc;
     pc.model = camera;
     pc.segmentation = model;
     pc.layout = layout;
-    sv::VisionPipeline pipeline({pc}, patterns, field);
     const double interval = 1.0 / scenario.fps;
+    const std::vector<std::string> stages = {"preprocessing", "classification", "recognition", "tracking", "total"};
     std::map<std::string, std::vector<double>> t;
+    for (const std::string& stage : stages) t[stage].assign(static_cast<std::size_t>(o.frames), 1e300);
+    std::vector<double> pass_p99;
     std::size_t windowed = 0, robots = 0;
     cv::Mat delivered;
-    for (int i = 0; i < o.frames; ++i) {
-      const cv::Mat* image = &frames[i];
-      if (!o.cold) {
-        delivered.create(frames[i].size(), frames[i].type());
-        frames[i].copyTo(delivered);
-        image = &delivered;
+    for (int pass = 0; pass < o.repeat; ++pass) {
+      sv::VisionPipeline pipeline({pc}, patterns, field);
+      std::vector<double> totals;
+      windowed = robots = 0;
+      for (int i = 0; i < o.frames; ++i) {
+        const cv::Mat* image = &frames[i];
+        if (!o.cold) {
+          delivered.create(frames[i].size(), frames[i].type());
+          frames[i].copyTo(delivered);
+          image = &delivered;
+        }
+        const auto t0 = Clock::now();
+        const sv::PipelineFrame f = pipeline.process(0, *image, i * interval);
+        const auto t1 = Clock::now();
+        windowed += !f.global_search;
+        robots += f.output.robots.size();
+        const double times[] = {f.times.preprocessing, f.times.classification, f.times.recognition, f.times.tracking,
+                                ms(t0, t1)};
+        for (std::size_t k = 0; k < stages.size(); ++k) {
+          double& best = t[stages[k]][static_cast<std::size_t>(i)];
+          best = std::min(best, times[k]);
+        }
+        totals.push_back(ms(t0, t1));
       }
-      const auto t0 = Clock::now();
-      const sv::PipelineFrame f = pipeline.process(0, *image, i * interval);
-      const auto t1 = Clock::now();
-      windowed += !f.global_search;
-      robots += f.output.robots.size();
-      t["preprocessing"].push_back(f.times.preprocessing);
-      t["classification"].push_back(f.times.classification);
-      t["recognition"].push_back(f.times.recognition);
-      t["tracking"].push_back(f.times.tracking);
-      t["total"].push_back(ms(t0, t1));
+      pass_p99.push_back(sv::percentile(totals, 99));
     }
 
     std::printf("bench_pipeline: %s, %dx%d %s, %d frames (%s), %.1f %% searched in windows, %.1f robots tracked per frame\n",
@@ -139,9 +158,16 @@ int main(int argc, char** argv) {
     nlohmann::json json = {{"width", scenario.width}, {"height", scenario.height}, {"frames", o.frames},
                            {"windowed_fraction", static_cast<double>(windowed) / o.frames},
                            {"cold", o.cold}};
-    for (const char* stage : {"preprocessing", "classification", "recognition", "tracking", "total"}) {
+    if (o.repeat > 1) {
+      std::printf("  %d passes, per frame the fastest; total p99 of each pass:", o.repeat);
+      for (double p : pass_p99) std::printf(" %.3f", p);
+      std::printf(" ms\n");
+      json["repeat"] = o.repeat;
+      json["pass_total_p99_ms"] = pass_p99;
+    }
+    for (const std::string& stage : stages) {
       const auto& v = t[stage];
-      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage, sv::percentile(v, 50), sv::percentile(v, 99),
+      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage.c_str(), sv::percentile(v, 50), sv::percentile(v, 99),
                   *std::max_element(v.begin(), v.end()));
       json[stage] = {{"p50_ms", sv::percentile(v, 50)}, {"p99_ms", sv::percentile(v, 99)},
                      {"max_ms", *std::max_element(v.begin(), v.end())}};
