@@ -486,6 +486,34 @@ SV_AVX512 inline __m512i pickBytes(const std::uint8_t* p, TwoLoads loads, __m512
   return _mm512_maskz_permutex2var_epi8(bytes_kept, low, index, high);
 }
 
+// pickBytes' index for points `span` bytes apart: lane i picks bytes i * span + 0, 1, 2
+// (span <= 41: no carries between the bytes).
+SV_AVX512 inline __m512i spanIndex(int span) {
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  return _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)), _mm512_set1_epi32(0x00020100));
+}
+
+// The colours of the n (<= 16) label pixels x, x + span / Step, .. of a row, one per lane
+// (Bayer: the quad's R, (G1 + G2 + 1) >> 1, B); `index`: spanIndex(span).
+template <int Step>
+SV_AVX512 inline Colours pickColours(const LabelRow& row, int x, int n, int span, __m512i index) {
+  constexpr int kPointBytes = Step == 3 ? 3 : 1;
+  const TwoLoads loads = firstBytes((n - 1) * span + kPointBytes);
+  if constexpr (Step == 3) {
+    const std::uint8_t* base = std::min(row.b, std::min(row.g1, row.r));  // bgr8/rgb8: the pixel's first byte
+    const __m512i pixels = pickBytes(base + 3 * x, loads, index, 0x7777777777777777ULL);
+    return {byteOf(pixels, 8 * int(row.b - base)), byteOf(pixels, 8 * int(row.g1 - base)),
+            byteOf(pixels, 8 * int(row.r - base))};
+  } else {
+    constexpr __mmask64 kFirstOfFour = 0x1111111111111111ULL;
+    const __m512i g1 = pickBytes(row.g1 + 2 * x, loads, index, kFirstOfFour);
+    const __m512i g2 = pickBytes(row.g2 + 2 * x, loads, index, kFirstOfFour);
+    return {pickBytes(row.b + 2 * x, loads, index, kFirstOfFour),
+            _mm512_srli_epi32(_mm512_add_epi32(_mm512_add_epi32(g1, g2), _mm512_set1_epi32(1)), 1),
+            pickBytes(row.r + 2 * x, loads, index, kFirstOfFour)};
+  }
+}
+
 // scanRow, as many points at a time as lie in 128 bytes of each channel's row (at most 16).
 template <int Step>
 SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y,
@@ -496,30 +524,13 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
   const int points = (x1 - x0 + stride - 1) / stride;
   int done = 0;
   if (per_step >= 4) {
-    // Lane i picks bytes i * span + 0, 1, 2 (span <= 41: no carries between the bytes).
-    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)),
-                                           _mm512_set1_epi32(0x00020100));
+    const __m512i index = spanIndex(span);
     const __m512i wanted = _mm512_set1_epi32(static_cast<int>(classes & 0xFFFF));
     const __m512i cells = _mm512_loadu_si512(CoarseCells(lookup, classes).bits);
-    const std::uint8_t* base = std::min(row.b, std::min(row.g1, row.r));  // bgr8/rgb8: the pixel's first byte
     for (; done < points; done += per_step) {
       const int n = std::min(per_step, points - done);
       const int x = x0 + done * stride;
-      const TwoLoads loads = firstBytes((n - 1) * span + kPointBytes);
-      Colours c;
-      if constexpr (Step == 3) {
-        const __m512i pixels = pickBytes(base + 3 * x, loads, index, 0x7777777777777777ULL);
-        c = {byteOf(pixels, 8 * int(row.b - base)), byteOf(pixels, 8 * int(row.g1 - base)),
-             byteOf(pixels, 8 * int(row.r - base))};
-      } else {
-        constexpr __mmask64 kFirstOfFour = 0x1111111111111111ULL;
-        const __m512i g1 = pickBytes(row.g1 + 2 * x, loads, index, kFirstOfFour);
-        const __m512i g2 = pickBytes(row.g2 + 2 * x, loads, index, kFirstOfFour);
-        c = {pickBytes(row.b + 2 * x, loads, index, kFirstOfFour),
-             _mm512_srli_epi32(_mm512_add_epi32(_mm512_add_epi32(g1, g2), _mm512_set1_epi32(1)), 1),
-             pickBytes(row.r + 2 * x, loads, index, kFirstOfFour)};
-      }
+      const Colours c = pickColours<Step>(row, x, n, span, index);
       const __mmask16 may = coarseTest(c, cells, firstLanes(n));
       if (!may) continue;
       // The cube test of the rest: cube_classes entries gathered 4 bytes each (the table is padded).
@@ -547,31 +558,15 @@ template <int Step>
 SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted,
                                  int x0, int x1, ClassMask keep, std::uint8_t* out) {
   constexpr int span = Step;  // bytes from one label pixel to the next
-  constexpr int kPointBytes = Step == 3 ? 3 : 1;
   const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)),
-                                         _mm512_set1_epi32(0x00020100));
+  const __m512i index = spanIndex(span);
   const __m512i wanted = _mm512_set1_epi32(static_cast<int>(keep & 0xFFFF));
   const __m512i zero = _mm512_setzero_si512(), three = _mm512_set1_epi32(3);
   const __m128i shift = _mm_cvtsi32_si128(adjusted.block_shift);
-  const std::uint8_t* base = std::min(row.b, std::min(row.g1, row.r));  // bgr8/rgb8: the pixel's first byte
   for (int x = x0; x < x1; x += 16) {
     const int n = std::min(16, x1 - x);
     const __mmask16 live = firstLanes(n);
-    const TwoLoads loads = firstBytes((n - 1) * span + kPointBytes);
-    Colours c;
-    if constexpr (Step == 3) {
-      const __m512i pixels = pickBytes(base + 3 * x, loads, index, 0x7777777777777777ULL);
-      c = {byteOf(pixels, 8 * int(row.b - base)), byteOf(pixels, 8 * int(row.g1 - base)),
-           byteOf(pixels, 8 * int(row.r - base))};
-    } else {
-      constexpr __mmask64 kFirstOfFour = 0x1111111111111111ULL;
-      const __m512i g1 = pickBytes(row.g1 + 2 * x, loads, index, kFirstOfFour);
-      const __m512i g2 = pickBytes(row.g2 + 2 * x, loads, index, kFirstOfFour);
-      c = {pickBytes(row.b + 2 * x, loads, index, kFirstOfFour),
-           _mm512_srli_epi32(_mm512_add_epi32(_mm512_add_epi32(g1, g2), _mm512_set1_epi32(1)), 1),
-           pickBytes(row.r + 2 * x, loads, index, kFirstOfFour)};
-    }
+    const Colours c = pickColours<Step>(row, x, n, span, index);
     const __m512i cube = cubeOf(c);
     const __m512i masks = _mm512_mask_i32gather_epi32(zero, live, cube, lookup.cube_classes.data(), 2);
     const __mmask16 may = _mm512_mask_test_epi32_mask(live, masks, wanted);
