@@ -16,7 +16,7 @@
 // frames of 4 MB are far out of the caches, as a frame a camera's DMA wrote to memory.
 // --repeat R runs the frames R times, each time with a fresh pipeline, and takes per frame
 // and stage the fastest pass: the work without the interference of a shared machine (on
-// ours a single pass's p99 varies by up to 1.5x from run to run); each pass's p99 is
+// ours a single pass's p99 varies by up to 2x from run to run); each pass's p99 is
 // printed too. Prints p50 / p99 / max of the total and of each stage (Table II's:
 // illumination, pixel classification, recognition and pose, tracking), the share of frames
 // searched in windows, and the robots found per frame.
