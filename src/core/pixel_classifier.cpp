@@ -434,7 +434,6 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's intrinsics headers
 #define SV_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vbmi")))
 
-
 struct Colours {
   __m512i b, g, r;  // one point per 32-bit lane
 };

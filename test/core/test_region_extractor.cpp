@@ -13,6 +13,7 @@
 #include <random>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -492,15 +493,25 @@ struct RenderedField {
   }
 };
 
-double medianMs(const std::function<void()>& run, int repeats) {
-  std::vector<double> ms;
-  for (int i = 0; i < repeats; ++i) {
+// Median times of `a` and `b`, run alternately `repeats` times each: a slower phase of a
+// shared machine weighs on both alike.
+std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, const std::function<void()>& b,
+                                              int repeats) {
+  auto ms = [](const std::function<void()>& run) {
     const auto start = std::chrono::steady_clock::now();
     run();
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  std::vector<double> a_ms, b_ms;
+  for (int i = 0; i < repeats; ++i) {
+    a_ms.push_back(ms(a));
+    b_ms.push_back(ms(b));
   }
-  std::nth_element(ms.begin(), ms.begin() + repeats / 2, ms.end());
-  return ms[static_cast<std::size_t>(repeats / 2)];
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  return {median(a_ms), median(b_ms)};
 }
 
 }  // namespace
@@ -524,15 +535,9 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   RegionStatistics normal_stats, noise_stats;
   const FrameClassifier normal_frame(classifier, frame.image, PixelLayout::Bgr, offsets);
   const FrameClassifier noise_frame(classifier, noise, PixelLayout::Bgr, offsets);
-  // Alternated, so that a slower phase of a shared machine weighs on both alike.
-  std::vector<double> normal_runs, noise_runs;
-  for (int i = 0; i < 9; ++i) {
-    normal_runs.push_back(medianMs([&] { extractor.extract(normal_frame, {}, regions, normal_stats); }, 1));
-    noise_runs.push_back(medianMs([&] { extractor.extract(noise_frame, {}, regions, noise_stats); }, 1));
-  }
-  std::nth_element(normal_runs.begin(), normal_runs.begin() + 4, normal_runs.end());
-  std::nth_element(noise_runs.begin(), noise_runs.begin() + 4, noise_runs.end());
-  const double normal_ms = normal_runs[4], noise_ms = noise_runs[4];
+  const auto [normal_ms, noise_ms] =
+      alternatingMedianMs([&] { extractor.extract(normal_frame, {}, regions, normal_stats); },
+                          [&] { extractor.extract(noise_frame, {}, regions, noise_stats); }, 9);
   std::printf("[ noise ] normal frame %.2f ms (%u grid points, %u pixels classified); colour noise %.2f ms "
               "(%u pixels classified, %zu regions): ratio %.2f\n",
               normal_ms, normal_stats.grid_points, normal_stats.classified_pixels, noise_ms,
