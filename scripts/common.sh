@@ -48,7 +48,10 @@ build_workspace() {
   mkdir -p "$pkg"
   for entry in "$REPO"/*; do ln -sfn "$entry" "$pkg/"; done
   find "$pkg" -maxdepth 1 -xtype l -delete  # entries removed from the repository
-  (cd "$WS" && catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON -j2 "$@" \
+  # ccache, where the machine has it, makes rebuilds of other checkouts cheap.
+  local launcher=()
+  command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  (cd "$WS" && catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON "${launcher[@]}" -j2 "$@" \
       > "$WS/build.log" 2>&1) || { tail -n 60 "$WS/build.log"; echo "== build failed (full log: $WS/build.log)"; return 1; }
   grep -E "warning:" "$WS/build.log" | sort -u | head -n 20 || true
 }

@@ -117,7 +117,7 @@
 #include "soccer_vision/CameraDriverConfig.h"
 #include "soccer_vision/RobotPose.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/frame_source.h"
+#include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/ros/transforms.h"

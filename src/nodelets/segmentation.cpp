@@ -2,7 +2,7 @@
 // driver and identification. Per frame of `image_raw` (bgr8, rgb8 or an 8-bit Bayer mosaic,
 // classified without demosaicing): illumination adaptation, colour-table lookup and regions
 // of the marker colours, published as one BlobArray. A thin adapter: all of that is the
-// core's Segmenter (src/core/); this file only moves parameters, tables and messages.
+// Segmenter (src/segmentation/); this file only moves parameters, tables and messages.
 //
 // Parameters (private namespace ~; those marked (dr) are also dynamic_reconfigure, see
 // cfg/Segmentation.cfg, and apply from the next frame):
@@ -107,13 +107,13 @@
 #include "soccer_vision/Calibrate.h"
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/SegmentationConfig.h"
-#include "soccer_vision/color_calibration.h"
-#include "soccer_vision/color_table.h"
-#include "soccer_vision/exchange_formats.h"
-#include "soccer_vision/frame_source.h"
-#include "soccer_vision/frame_step.h"
+#include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/sources/frame_source.h"
+#include "soccer_vision/tracking/frame_step.h"
 #include "soccer_vision/ros/blob_conversions.h"
-#include "soccer_vision/segmenter.h"
+#include "soccer_vision/segmentation/segmenter.h"
 
 namespace soccer_vision {
 

@@ -67,15 +67,15 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/TrackingConfig.h"
-#include "soccer_vision/result_recording.h"
+#include "soccer_vision/tracking/result_recording.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/field_markers.h"
 #include "soccer_vision/ros/transforms.h"
-#include "soccer_vision/sample_statistics.h"
-#include "soccer_vision/search_planner.h"
-#include "soccer_vision/tracker.h"
+#include "soccer_vision/common/statistics.h"
+#include "soccer_vision/tracking/search_planner.h"
+#include "soccer_vision/tracking/tracker.h"
 
 namespace soccer_vision {
 

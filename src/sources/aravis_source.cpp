@@ -1,4 +1,4 @@
-#include "soccer_vision/aravis_source.h"
+#include "soccer_vision/sources/aravis_source.h"
 
 extern "C" {
 #include <arv.h>
@@ -12,8 +12,8 @@ extern "C" {
 #include <mutex>
 #include <sstream>
 
-#include "soccer_vision/frame_pacer.h"
-#include "soccer_vision/source_settings.h"
+#include "soccer_vision/sources/frame_pacer.h"
+#include "soccer_vision/sources/source_settings.h"
 
 namespace soccer_vision {
 

@@ -1,4 +1,4 @@
-#include "soccer_vision/frame_pacer.h"
+#include "soccer_vision/sources/frame_pacer.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,17 +1,15 @@
-#include "soccer_vision/frame_source.h"
+#include "soccer_vision/sources/frame_source.h"
 
 #include <mutex>
 #include <utility>
 
 #include <opencv2/imgproc.hpp>
 
-#include "soccer_vision/images_source.h"
-#include "soccer_vision/synthetic_source.h"
-#include "soccer_vision/v4l2_source.h"
-#include "soccer_vision/video_source.h"
-#ifdef SOCCER_VISION_HAVE_ARAVIS
-#include "soccer_vision/aravis_source.h"
-#endif
+#include "soccer_vision/sources/aravis_source.h"
+#include "soccer_vision/sources/images_source.h"
+#include "soccer_vision/sources/synthetic_source.h"
+#include "soccer_vision/sources/v4l2_source.h"
+#include "soccer_vision/sources/video_source.h"
 
 namespace soccer_vision {
 
@@ -22,14 +20,12 @@ struct Registry {
   std::map<std::string, FrameSourceFactory> factories;
 
   Registry() {
-    // Built-in back-ends (aravis when the package was built with libaravis).
+    // Built-in back-ends.
     factories["synthetic"] = [] { return std::make_unique<SyntheticSource>(); };
     factories["video"] = [] { return std::make_unique<VideoSource>(); };
     factories["images"] = [] { return std::make_unique<ImagesSource>(); };
     factories["v4l2"] = [] { return std::make_unique<V4l2Source>(); };
-#ifdef SOCCER_VISION_HAVE_ARAVIS
     factories["aravis"] = [] { return std::make_unique<AravisSource>(); };
-#endif
   }
 };
 

@@ -1,4 +1,4 @@
-#include "soccer_vision/images_source.h"
+#include "soccer_vision/sources/images_source.h"
 
 #include <dirent.h>
 #include <sys/stat.h>
@@ -10,7 +10,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "soccer_vision/source_settings.h"
+#include "soccer_vision/sources/source_settings.h"
 
 namespace soccer_vision {
 

@@ -1,4 +1,4 @@
-#include "soccer_vision/source_settings.h"
+#include "soccer_vision/sources/source_settings.h"
 
 #include <algorithm>
 #include <cctype>

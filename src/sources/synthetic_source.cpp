@@ -1,4 +1,4 @@
-#include "soccer_vision/synthetic_source.h"
+#include "soccer_vision/sources/synthetic_source.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,8 +6,8 @@
 #include <exception>
 #include <sstream>
 
-#include "soccer_vision/field_renderer.h"
-#include "soccer_vision/game_simulator.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
 
 namespace soccer_vision {
 

@@ -1,4 +1,4 @@
-#include "soccer_vision/v4l2_formats.h"
+#include "soccer_vision/sources/v4l2_formats.h"
 
 #include <linux/videodev2.h>
 

@@ -1,4 +1,4 @@
-#include "soccer_vision/v4l2_source.h"
+#include "soccer_vision/sources/v4l2_source.h"
 
 #include <fcntl.h>
 #include <linux/videodev2.h>
@@ -15,7 +15,7 @@
 #include <cstring>
 #include <ctime>
 
-#include "soccer_vision/source_settings.h"
+#include "soccer_vision/sources/source_settings.h"
 
 namespace soccer_vision {
 

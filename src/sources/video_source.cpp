@@ -1,10 +1,10 @@
-#include "soccer_vision/video_source.h"
+#include "soccer_vision/sources/video_source.h"
 
 #include <sys/stat.h>
 
 #include <cmath>
 
-#include "soccer_vision/source_settings.h"
+#include "soccer_vision/sources/source_settings.h"
 
 namespace soccer_vision {
 

@@ -32,11 +32,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "soccer_vision/field_renderer.h"
-#include "soccer_vision/game_simulator.h"
-#include "soccer_vision/sample_statistics.h"
-#include "soccer_vision/synthetic_calibration.h"
-#include "soccer_vision/vision_pipeline.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
+#include "soccer_vision/common/statistics.h"
+#include "soccer_vision/simulation/synthetic_calibration.h"
+#include "soccer_vision/pipeline/vision_pipeline.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;

@@ -29,11 +29,11 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "soccer_vision/color_calibration.h"
-#include "soccer_vision/color_table.h"
-#include "soccer_vision/command_line.h"
-#include "soccer_vision/exchange_formats.h"
-#include "soccer_vision/segmenter.h"
+#include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/segmentation/color_table.h"
+#include "command_line.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/segmentation/segmenter.h"
 
 namespace sv = soccer_vision;
 

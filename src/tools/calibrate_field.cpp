@@ -2,7 +2,7 @@
 // (DESIGN.md field_points.yaml, raw distorted pixels) and the camera's intrinsics (the
 // standard ROS camera calibration YAML, e.g. camera_info.yaml of make_scenario or of
 // camera_calibration). Prints the reprojection error of every point and the RMS, and
-// writes camera_pose.yaml (see include/soccer_vision/camera_pose_file.h) from which the
+// writes camera_pose.yaml (see include/soccer_vision/common/camera_pose_file.h) from which the
 // static tf field -> camera_<n>_optical is published.
 //
 //   rosrun soccer_vision calibrate_field --camera-info camera_info.yaml
@@ -20,11 +20,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "soccer_vision/camera_info_yaml.h"
-#include "soccer_vision/camera_pose_file.h"
-#include "soccer_vision/camera_pose_solver.h"
-#include "soccer_vision/command_line.h"
-#include "soccer_vision/exchange_formats.h"
+#include "soccer_vision/common/camera_info_yaml.h"
+#include "soccer_vision/common/camera_pose_file.h"
+#include "soccer_vision/calibration/camera_pose_solver.h"
+#include "command_line.h"
+#include "soccer_vision/common/exchange_formats.h"
 
 namespace sv = soccer_vision;
 

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "soccer_vision/ros/package_paths.h"
-#include "soccer_vision/scenario.h"
-#include "soccer_vision/synthetic_calibration.h"
+#include "soccer_vision/simulation/scenario.h"
+#include "soccer_vision/simulation/synthetic_calibration.h"
 
 namespace sv = soccer_vision;
 

@@ -41,11 +41,11 @@
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/camera_model.h"
-#include "soccer_vision/field_geometry.h"
-#include "soccer_vision/frame_source.h"
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/ros/conversions.h"
-#include "soccer_vision/scoring.h"
+#include "soccer_vision/evaluation/scoring.h"
 
 namespace sv = soccer_vision;
 

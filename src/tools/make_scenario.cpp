@@ -25,13 +25,13 @@
 #include <rosbag/bag.h>
 #include <sensor_msgs/Image.h>
 
-#include "soccer_vision/calibration_samples.h"
-#include "soccer_vision/exchange_formats.h"
-#include "soccer_vision/field_renderer.h"
-#include "soccer_vision/game_simulator.h"
+#include "soccer_vision/simulation/calibration_samples.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
-#include "soccer_vision/synthetic_calibration.h"
+#include "soccer_vision/simulation/synthetic_calibration.h"
 
 namespace sv = soccer_vision;
 

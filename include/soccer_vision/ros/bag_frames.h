@@ -17,8 +17,8 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
-#include "soccer_vision/exchange_formats.h"
-#include "soccer_vision/pixel_classifier.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/segmentation/pixel_classifier.h"
 
 namespace soccer_vision {
 

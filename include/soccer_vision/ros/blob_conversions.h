@@ -10,8 +10,8 @@
 
 #include "soccer_vision/Blob.h"
 #include "soccer_vision/BlobArray.h"
-#include "soccer_vision/region_extractor.h"
-#include "soccer_vision/segmenter.h"
+#include "soccer_vision/segmentation/region_extractor.h"
+#include "soccer_vision/segmentation/segmenter.h"
 
 namespace soccer_vision {
 

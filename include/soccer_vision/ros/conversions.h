@@ -9,9 +9,9 @@
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/camera_model.h"
-#include "soccer_vision/exchange_formats.h"
-#include "soccer_vision/scene.h"
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/simulation/scene.h"
 
 namespace soccer_vision {
 

@@ -9,8 +9,8 @@
 
 #include "soccer_vision/BlobArray.h"
 #include "soccer_vision/CameraDetections.h"
-#include "soccer_vision/detections.h"
-#include "soccer_vision/region_extractor.h"
+#include "soccer_vision/common/detections.h"
+#include "soccer_vision/segmentation/region_extractor.h"
 
 namespace soccer_vision {
 

@@ -11,7 +11,7 @@
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/field_geometry.h"
+#include "soccer_vision/common/field_geometry.h"
 
 namespace soccer_vision {
 

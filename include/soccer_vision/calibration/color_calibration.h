@@ -1,0 +1,46 @@
+// Colour calibration as the tool, the nodelet's ~calibrate service and the benchmark do
+// it: sample pixels from one or more BGR images and their sample polygons, the paper's
+// colour table from them, and the illumination reference of the same images (block means
+// of V and, normalised, block light levels), so that run-time adaptation measures light
+// changes against the calibration (illumination_adaptation.h).
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/segmentation/pixel_classifier.h"
+
+namespace soccer_vision {
+
+struct CalibrationImage {
+  cv::Mat bgr;            // CV_8UC3
+  ColorSamples samples;   // polygons in this image's pixel coordinates
+};
+
+// How the table files the samples' V.
+enum class CalibrationLight {
+  // Normalised V (the default): each sample's V scaled by the mean light level over its
+  // block's level in its image, exactly as the run-time classification will scale it; the
+  // table keeps the levels. Markers are then recognised in light they were not seen in.
+  Normalized,
+  // V as captured, the paper's table; run-time adaptation is the paper's v + k·Δv.
+  AsCaptured,
+};
+
+// The colours the classifier reads from an image of this layout, as a BGR image of the
+// same size: bgr8 as it is, rgb8 swapped, a Bayer mosaic as its 2x2 quads' colours (R,
+// (G1 + G2 + 1) >> 1, B, as pixel_classifier.h reads them) each filling its quad. A table
+// calibrated on it sees exactly the colours run-time classification looks up (a demosaic
+// would interpolate other ones), on the image's own block grid.
+cv::Mat classifiedColors(const cv::Mat& image, PixelLayout layout);
+
+// Throws std::invalid_argument for no images, images of different sizes or types, or
+// samples that select no pixel at all.
+ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images,
+                               const ColorTableParams& params = {},
+                               CalibrationLight light = CalibrationLight::Normalized);
+
+}  // namespace soccer_vision

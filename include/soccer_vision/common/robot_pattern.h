@@ -1,0 +1,51 @@
+// Marker patterns as data (config/patterns/*.yaml): where each coloured tag sits on a
+// robot's top, per team and per id. Robot frame: x forward (heading), y left, metres.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "soccer_vision/common/color_class.h"
+
+namespace soccer_vision {
+
+struct MarkerShape {
+  enum class Kind { Disc, Rect };
+  Kind kind = Kind::Disc;
+  double x = 0, y = 0;             // centre in the robot frame, m
+  double radius = 0;               // Disc, m
+  double size_x = 0, size_y = 0;   // Rect: full extent along robot x and y, m
+};
+
+struct ColoredMarker {
+  MarkerShape shape;
+  ColorClass color = ColorClass::None;
+};
+
+struct PatternSet {
+  std::string name;
+  double robot_radius = 0.090;     // m
+  double robot_height = 0.150;     // m, marker plane
+  MarkerShape team_marker;         // drawn in the team colour
+  std::vector<MarkerShape> slots;  // id markers (may be empty: team-marker-only mode)
+  // ids[id][slot] = colour of that slot for robot `id`.
+  std::vector<std::vector<ColorClass>> ids;
+
+  // Team-marker-only sets have no ids; they allow as many robots as the SSL pattern.
+  int maxRobotsPerTeam() const { return ids.empty() ? 16 : static_cast<int>(ids.size()); }
+  // Every marker of robot (team, id), team marker first.
+  std::vector<ColoredMarker> markers(Team team, int id) const;
+
+  // Built-in definitions equal to config/patterns/{two_tag,ssl,team_only}.yaml.
+  static PatternSet twoTag();
+  static PatternSet ssl();
+  static PatternSet teamOnly();
+};
+
+// Parses a pattern YAML document; throws std::runtime_error with a clear message.
+PatternSet parsePatternSet(const std::string& yaml_text, const std::string& source_name);
+PatternSet loadPatternSet(const std::string& path);
+// "two_tag", "ssl", "team_only" (built in) or a path to a YAML file.
+PatternSet patternSetByName(const std::string& name_or_path);
+
+}  // namespace soccer_vision

@@ -1,0 +1,37 @@
+// Identification of one camera frame: regions (raw image pixels, as segmentation gives
+// them) -> robots and ball candidates in `field` (CameraFrameDetections). Robots first
+// (RobotIdentifier); the ball from the orange regions no robot took (BallDetector).
+#pragma once
+
+#include <vector>
+
+#include "soccer_vision/identification/ball_detection.h"
+#include "soccer_vision/common/detections.h"
+#include "soccer_vision/identification/robot_identification.h"
+
+namespace soccer_vision {
+
+struct IdentificationParams {
+  RobotIdentificationParams robots;
+  BallDetectionParams balls;
+};
+
+class FrameIdentifier {
+ public:
+  FrameIdentifier(const CameraModel& camera, const PatternSet& patterns, const FieldGeometry& field,
+                  const IdentificationParams& params = {});
+  void setParams(const IdentificationParams& params);
+  const IdentificationParams& params() const { return params_; }
+  const CameraModel& camera() const { return robots_.camera(); }
+
+  // `mosaic`: regions found on a Bayer mosaic's quads (see RobotIdentifier::identify).
+  CameraFrameDetections identify(const std::vector<Region>& regions, double stamp = 0, int camera_id = 0,
+                                 bool global_search = true, bool mosaic = false) const;
+
+ private:
+  IdentificationParams params_;
+  RobotIdentifier robots_;
+  BallDetector balls_;
+};
+
+}  // namespace soccer_vision

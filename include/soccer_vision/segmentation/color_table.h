@@ -1,0 +1,191 @@
+// The paper's offline colour table (§III-A, DESIGN.md "The method, made precise" §1):
+// built from sample pixels per colour class, it maps every quantised HSV cell to one
+// class (or ColorClass::None), and is saved/loaded as a versioned `.svct` file.
+//
+// Construction, per class with samples:
+//  1. mean L*a*b* and circular mean hue of all its sample pixels;
+//  2. a sample is *valid* when its CIE76 distance to the mean L*a*b* < threshold_lab and
+//     its circular hue distance to the mean hue < threshold_h;
+//  3. each valid pixel falls into an HS cell; each HS cell records [Vmin, Vmax] of its
+//     valid pixels, and the class claims every (h, s, v) cell of that HS cell whose V bin
+//     lies between bin(Vmin - v_margin) and bin(Vmax + v_margin): a closed 3-D body in HSV;
+//  4. a cell claimed by several classes goes to argmax_c p(c | h, s, v) of a Gaussian
+//     naive Bayes per class (independent H, S, V; means and variances of the valid
+//     pixels, circular for H; equal priors), evaluated at the cell centre.
+// Cells no class claims are ColorClass::None.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "soccer_vision/common/color_class.h"
+#include "soccer_vision/common/color_space.h"
+#include "soccer_vision/common/exchange_formats.h"
+
+namespace soccer_vision {
+
+// Sample pixels (BGR) per class, collected from one or more calibration images.
+using ClassPixels = std::map<ColorClass, std::vector<cv::Vec3b>>;
+
+// A sample pixel and the V under which the table files it: the V the run-time
+// classification will look up for it (its V brought to the reference illumination, see
+// illumination_adaptation.h); max(b, g, r) for a pixel taken as it is.
+struct SamplePixel {
+  cv::Vec3b bgr;
+  std::uint8_t v = 0;
+};
+using ClassSamplePixels = std::map<ColorClass, std::vector<SamplePixel>>;
+
+// The pixels of an image of `image_size` whose centre lies inside one of a class's
+// polygons (pixel (u, v) has its centre at (u, v)); a pixel inside several polygons of the
+// same class is taken once.
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size, const ColorSamples& samples);
+// Their colours in a CV_8UC3 BGR image. Throws std::invalid_argument for another type.
+ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples);
+
+struct ClassThresholds {
+  double lab = 0;  // CIE76 distance to the class mean, strict upper bound
+  double h = 0;    // circular hue distance to the class mean hue, degrees; > 180: no hue test
+};
+
+struct ColorTableParams {
+  // Quantisation of the table: h in [0, 360) degrees, s in [0, 1], v in 0..255.
+  // A class claims only the HS cells its valid samples fell in, and only the V range they
+  // spanned there, so a cell must be about as wide as the spread of sensor noise (±3σ for
+  // σ ≈ 1–2 levels of 8-bit noise) or a calibration of a few dozen pixels per marker colour
+  // leaves holes that later pixels of the same marker fall into. Still, the closest marker
+  // hues (orange/red/pink, sky blue/blue) stay several cells apart. 23 040 cells: the table
+  // fits in the L2 cache.
+  int h_bins = 90;  // 4°
+  int s_bins = 16;  // 1/16
+  int v_bins = 16;  // 16 levels
+  // Thresholds of valid samples. 20 ΔE excludes mixtures with a neighbouring surface
+  // (edge pixels of a clicked region) yet keeps the noise and shading of the colour; 15°
+  // is about half the smallest hue gap between the paper's marker colours.
+  double threshold_lab = 20.0;
+  double threshold_h = 15.0;
+  // Tolerance added below Vmin and above Vmax of each HS cell, 8-bit V units (0 = the
+  // paper's body). One frame shows each role colour on about two markers, so the V range
+  // a cell saw is narrower than what the same colour shows elsewhere on the field after
+  // illumination normalisation (estimation error of the block's light, sensor noise).
+  int v_margin = 8;  // by measurement: 4 leaves yellow/green misses on uneven_drift, 16 adds background false positives under noise
+  // Per-class thresholds that replace the two above, e.g. no hue test for greys.
+  std::map<ColorClass, ClassThresholds> overrides = {
+      {ColorClass::Line, {20.0, 360.0}},      // white: hue is noise
+      {ColorClass::RobotTop, {20.0, 360.0}},  // black: hue is noise
+  };
+
+  ClassThresholds thresholds(ColorClass c) const;
+  // Throws std::invalid_argument when bins or thresholds are out of range.
+  void validate() const;
+};
+
+// What construction saw and decided for one class (all zero for a class without samples).
+struct ClassStatistics {
+  std::uint32_t samples = 0;
+  std::uint32_t valid = 0;
+  Lab mean_lab;       // of all samples
+  double mean_h = 0;  // circular mean of all samples, degrees
+  ClassThresholds thresholds;
+  // Gaussian naive Bayes model of the valid pixels: h in degrees (circular mean, variance of
+  // the wrapped differences), s in [0, 1], v in 0..255. Variances are at least the
+  // quantisation variance width²/12 of one cell: the table resolves nothing finer.
+  double mean_h_valid = 0, var_h = 0;
+  double mean_s = 0, var_s = 0;
+  double mean_v = 0, var_v = 0;
+  std::uint32_t cells_claimed = 0;   // cells of the class's HSV body
+  std::uint32_t cells_assigned = 0;  // cells it holds after the Bayes decisions
+};
+
+struct ColorTableStatistics {
+  std::array<ClassStatistics, kNumColorClasses> classes{};
+  std::uint32_t overlap_cells = 0;  // cells claimed by more than one class, decided by Bayes
+};
+
+class ColorTable {
+ public:
+  // Version of the `.svct` layout this build writes and reads.
+  static constexpr std::uint32_t kFormatVersion = 3;
+
+  // Builds the table from sample pixels. Throws std::invalid_argument for bad parameters
+  // or samples given for ColorClass::None (the background without samples).
+  static ColorTable build(const ClassPixels& samples, const ColorTableParams& params = {});
+  // The same from samples with their V given: H and S come from the pixel, V from
+  // SamplePixel::v, and the L*a*b* validity test sees the pixel scaled to that V.
+  static ColorTable buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params = {});
+
+  // Unit gain of adjustedV: gains are fixed point with 8 fractional bits.
+  static constexpr int kUnitGain = 256;
+  // V as the table reads it under a block's illumination adjustment (illumination_adaptation.h):
+  // clamp(((v * gain + 128) >> 8) + offset, 0, 255), i.e. v scaled by gain / 256 (rounded
+  // half up), then shifted. The paper's adaptation is gain = kUnitGain, offset = k·Δv.
+  // v in 0..255, gain in 0..65535, |offset| <= 65535.
+  static int adjustedV(int v, int offset, int gain = kUnitGain) {
+    const int adjusted = ((v * gain + 128) >> 8) + offset;
+    return adjusted < 0 ? 0 : adjusted > 255 ? 255 : adjusted;
+  }
+  // The classification: table[bin(H)][bin(S)][bin(adjustedV(V, v_offset, v_gain))].
+  // With the unit gain it is the paper's table[bin(H)][bin(S)][bin(clamp(V + v_offset))].
+  ColorClass classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset = 0,
+                      int v_gain = kUnitGain) const {
+    const Hsv hsv = bgrToHsv(b, g, r);
+    return classifyHsv(hsv.h, hsv.s, adjustedV(static_cast<int>(hsv.v), v_offset, v_gain));
+  }
+  // h in degrees (any value: wrapped into [0, 360)), s clamped to [0, 1], v to [0, 255].
+  ColorClass classifyHsv(double h, double s, double v) const {
+    return cell(hBin(h), sBin(s), vBin(v));
+  }
+
+  int hBin(double h) const;
+  int sBin(double s) const;
+  int vBin(double v) const;
+  ColorClass cell(int h_bin, int s_bin, int v_bin) const {
+    return cells_[(static_cast<std::size_t>(h_bin) * params_.s_bins + s_bin) * params_.v_bins + v_bin];
+  }
+
+  const ColorTableParams& params() const { return params_; }
+  const ColorTableStatistics& statistics() const { return stats_; }
+  // All cells, index (h_bin * s_bins + s_bin) * v_bins + v_bin.
+  const std::vector<ColorClass>& cells() const { return cells_; }
+
+  // Illumination reference of the calibration images (DESIGN.md §2): mean V per 32x32
+  // block, CV_32FC1 of the images' block grid; empty when the table has none.
+  const cv::Mat& illuminationReference() const { return illumination_reference_; }
+  // This table with that reference (copied). Throws std::invalid_argument unless it is
+  // empty or a CV_32FC1 of finite values.
+  ColorTable withIlluminationReference(cv::Mat reference) const;
+  // Carpet light level per 32x32 block of the calibration images (blockLightLevels in
+  // illumination_adaptation.h). When present, the table's V axis is *normalised* V: the
+  // samples were filed under V scaled to the mean level of this map, and the run-time
+  // classification scales each block's V by that mean over the block's current level.
+  // Empty: V as captured (the paper's table).
+  const cv::Mat& illuminationLevels() const { return illumination_levels_; }
+  // This table with those levels (copied). Throws std::invalid_argument unless they are
+  // empty or a CV_32FC1 of finite positive values.
+  ColorTable withIlluminationLevels(cv::Mat levels) const;
+
+  // `.svct` file: magic, format version, file size, parameters, statistics, cells,
+  // illumination reference and levels, CRC-32. Version 2 files (no v_margin, no levels)
+  // are still read.
+  // save throws std::runtime_error when the file cannot be written; load throws
+  // std::runtime_error naming the file and the problem (missing file, wrong magic,
+  // unsupported version, truncated, checksum mismatch, inconsistent content).
+  void save(const std::string& path) const;
+  static ColorTable load(const std::string& path);
+
+ private:
+  ColorTable() = default;
+
+  ColorTableParams params_;
+  ColorTableStatistics stats_;
+  std::vector<ColorClass> cells_;
+  cv::Mat illumination_reference_;
+  cv::Mat illumination_levels_;
+};
+
+}  // namespace soccer_vision

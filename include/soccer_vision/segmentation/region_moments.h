@@ -1,0 +1,48 @@
+// The moments of a region (centroid, second central moments, orientation): binary, from the
+// closed-form sums of its runs, or coverage-weighted, from the colours of its edge pixels
+// so that anti-aliased shapes give their true sub-pixel centroid.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "soccer_vision/segmentation/pixel_classifier.h"
+#include "soccer_vision/segmentation/run_length_components.h"
+
+namespace soccer_vision {
+
+struct Region;
+
+// Binary moments of a component whose sums are relative to `origin` (label pixels).
+void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Region& r);
+
+// Reusable buffers of coverageMoments (one per thread).
+struct CoverageScratch {
+  // Bit rows (bit x + 2, 64 px a word) over the region's bbox grown by its 2-pixel ring
+  // (and 2 more rows each side): membership, membership dilated along rows.
+  std::vector<std::uint64_t> member, near_in_row;
+  // The samples in raster order, in runs of one kind (ring, region) along a row.
+  struct Segment {
+    int x, y, length;  // relative to the bbox
+  };
+  std::vector<Segment> segments;
+  std::vector<std::int32_t> colors;  // columns: B, G, R of every sample
+  std::vector<double> ring_colors;  // columns: B, G, R of the ring's samples
+  std::vector<double> alphas;  // coverage per sample
+};
+
+// Coverage-weighted moments of the region made of the runs [begin, end) (coordinates
+// relative to `origin`; r.bbox: their bounding box in label pixels) written to r; `image`:
+// the label image's rectangle. The paper weights its moments by V(i, j) (eq. 5-6); here
+// each pixel is weighted by its estimated coverage α = clamp((p - bg)·(c - bg) / |c - bg|²,
+// 0, 1), c the mean colour of the interior (pixels with all 4-neighbours in the region; all
+// region pixels for tiny regions), bg the mean colour of a 2-pixel ring around the region,
+// then once more weighted by 1 - α, so that the partly covered ring pixels do not pull it
+// towards c. Returns false (r's moments untouched) when the colours give no usable
+// contrast: binary moments then.
+bool coverageMoments(const FrameClassifier& frame, const PixelRun* begin, const PixelRun* end, cv::Point origin,
+                     const cv::Rect& image, CoverageScratch& scratch, Region& r);
+
+}  // namespace soccer_vision

@@ -1,0 +1,32 @@
+// What a person would click for calibration, derived from the simulator's ground truth:
+// colour sample polygons inside each visible marker, the ball, the robot tops, the
+// carpet and the lines; and pixel <-> field correspondences of the field's landmarks.
+#pragma once
+
+#include <vector>
+
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/simulation/scene.h"
+
+namespace soccer_vision {
+
+struct SampleOptions {
+  double shrink = 0.6;        // polygons cover this fraction of each marker's size
+  double image_margin = 8.0;  // px; objects closer to the image border are skipped
+  int carpet_patches = 8;     // carpet squares to sample
+};
+
+// Polygons in raw pixel coordinates of `camera` for the scene at this instant.
+ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& camera,
+                                const FieldGeometry& field, const PatternSet& patterns,
+                                const SampleOptions& options = {});
+
+// Landmarks of the field (z = 0) that project inside the image, with exact pixels.
+std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera,
+                                                      const FieldGeometry& field,
+                                                      double image_margin = 5.0);
+
+}  // namespace soccer_vision

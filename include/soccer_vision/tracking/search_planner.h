@@ -1,0 +1,67 @@
+// How one camera's next frame is searched (paper §III-C): in the windows of the tracks
+// predicted to that frame's stamp, plus the entry bands along the image borders, or as a
+// whole (GlobalSearchPolicy). The Tracking nodelet and the in-process VisionPipeline both
+// plan with it, so that live and offline runs make the same decisions.
+//
+// Per camera, per frame the tracker was given:
+//   report = tracker.update(frame);   planner.observe(report, frame.stamp);
+//   plan = planner.plan(tracker, &camera_model, frame.stamp);
+// The next frame's stamp is predicted as this one's plus the mean interval between the
+// camera's processed frames (an exponential average, so frame_step and dropped frames are
+// accounted for).
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/tracking/global_search_policy.h"
+#include "soccer_vision/tracking/search_windows.h"
+#include "soccer_vision/tracking/tracker.h"
+
+namespace soccer_vision {
+
+struct SearchPlannerParams {
+  bool search_windows = true;   // false: every frame is searched whole (reason Periodic)
+  int entry_band_px = 48;       // bands along the image borders searched with the windows
+  SearchWindowParams windows;   // windows.side_px = R
+  GlobalSearchParams global_search;
+};
+
+void validate(const SearchPlannerParams& p);  // throws std::invalid_argument
+
+struct SearchPlan {
+  double stamp = 0;             // the predicted stamp of the frame this plan is for
+  // The policy's decision (Periodic for every frame when search windows are off).
+  GlobalSearchReason reason = GlobalSearchReason::First;
+  bool global_search = true;    // searched whole: a reason, or no camera model to project with
+  std::vector<SearchWindow> windows;  // the tracks' windows (also when searching whole)
+  std::vector<cv::Rect> rects;        // windows + entry bands; empty for a global search
+};
+
+class SearchPlanner {
+ public:
+  explicit SearchPlanner(const SearchPlannerParams& params = {});
+
+  // The tracker has processed (or refused) this camera's frame of `stamp`.
+  void observe(const TrackerUpdateReport& report, double stamp);
+  // The plan for the camera's next frame. Without a camera model (not known yet) the frame
+  // is searched whole.
+  SearchPlan plan(const Tracker& tracker, const CameraModel* camera, double stamp);
+  // The tracker dropped its tracks (a time jump seen by any camera): next plan is First.
+  void restart() { policy_.restart(); }
+
+  // [s] mean interval between processed frames; 1/60 until two frames were seen.
+  double interval() const { return interval_ > 0 ? interval_ : 1.0 / 60; }
+  const GlobalSearchPolicy& policy() const { return policy_; }
+  const SearchPlannerParams& params() const { return params_; }
+  void setParams(const SearchPlannerParams& params);  // throws std::invalid_argument
+
+ private:
+  SearchPlannerParams params_;
+  GlobalSearchPolicy policy_;
+  double last_stamp_ = 0, interval_ = 0;
+};
+
+}  // namespace soccer_vision

@@ -1,0 +1,202 @@
+// Multi-target tracker over the detections of one or more cameras (paper §III-C, DESIGN.md
+// "Tracking"): one RobotFilter per robot, BallFilters for the ball, all in the `field` frame.
+//
+// Association:
+//  - robots with an id: by identity (team, id); two detections of one identity in one frame
+//    (an identification error) -> the one closest to the track is used;
+//  - team-only robots (id -1): gated nearest neighbour within the team (greedy on the
+//    squared Mahalanobis distance); unmatched detections start new tracks;
+//  - ball: gated nearest neighbour among the candidates; a candidate outside the gate but
+//    within reach of a kicked ball restarts the filter there (BallFilter); with no ball
+//    track the best candidate starts one. One track is the primary ball; up to
+//    max_ball_tracks - 1 others follow unexplained candidates. Tracks are served in order
+//    of priority (the primary first): nearest candidate inside the gate, else the nearest
+//    one within kick reach. The primary is the track with the highest measurement rate
+//    (measurements per ball_rate_memory, decaying exponentially), with hysteresis: another
+//    track takes over only when its rate exceeds 1.5 x the primary's + 1, so a stray
+//    orange blob seen now and then never becomes the ball, and the ball is not lost to an
+//    alternative that happened to catch it after a bounce.
+// Several cameras: every camera's frame updates the same tracks, so a target in the
+// overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
+// prediction, slightly older frames fused at the newest time with their positions moved
+// forward by the track velocity × lag; backward or large forward jumps reset all tracks).
+// Measurement time: a frame's detections describe the scene at its capture stamp plus the
+// camera's measurement offset (the middle of the exposure when the stamp is its start: a
+// blurred marker's centroid is where it was then). The filters run on measurement times;
+// output(stamp) predicts to the stamp asked for, so outputs at capture stamps carry no
+// lag of v × offset (10 mm at 5 m/s with a 4 ms exposure).
+// Tracks without a measurement for *_lost_timeout are dropped.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "soccer_vision/tracking/ball_filter.h"
+#include "soccer_vision/common/color_class.h"
+#include "soccer_vision/common/detections.h"
+#include "soccer_vision/tracking/robot_filter.h"
+#include "soccer_vision/tracking/tracker_timeline.h"
+
+namespace soccer_vision {
+
+struct TrackerParams {
+  RobotFilterParams robot;
+  BallFilterParams ball;
+  TimelineParams time;
+  double robot_lost_timeout = 0.5;  // [s] without a measurement -> robot track dropped
+  double ball_lost_timeout = 0.5;   // [s] likewise for ball tracks
+  double min_confidence = 0.0;      // [0..1] detections below are ignored
+  int max_ball_tracks = 3;          // primary ball + alternatives (>= 1)
+  double visible_window = 0.001;    // [s] "visible": measured at most this long before the output stamp
+  double confidence_smoothing = 0.3;  // (0..1] weight of a new detection in the running confidence
+  double ball_rate_memory = 0.25;   // [s] time constant of the ball tracks' measurement rate
+  // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
+  // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
+  double measurement_offset = 0.0;
+  std::map<int, double> camera_measurement_offsets;  // camera id -> offset replacing the above
+
+  double measurementOffset(int camera_id) const;
+};
+
+void validate(const TrackerParams& p);  // throws std::invalid_argument naming the parameter
+
+struct TrackedRobot {
+  int track_id = 0;            // unique for the tracker's lifetime (never reused)
+  Team team = Team::Blue;
+  int id = -1;                 // -1: team-only track
+  double x = 0, y = 0;         // [m]
+  double theta = 0;            // [rad] (-pi, pi]
+  double vx = 0, vy = 0;       // [m/s]
+  double omega = 0;            // [rad/s]
+  bool heading_valid = false;  // the track has had a heading measurement
+  double confidence = 0;       // [0..1] running detection confidence, fading to 0 at the lost timeout
+  int camera_id = 0;           // camera of the last measurement
+  bool visible = false;        // measured in the frame of the output stamp (see visible_window)
+  double last_measured = 0;    // [s] capture stamp of the last measurement
+  Eigen::Matrix2d position_covariance = Eigen::Matrix2d::Zero();  // [m²] at the output stamp
+};
+
+struct TrackedBall {
+  int track_id = 0;
+  bool primary = false;
+  double x = 0, y = 0, z = 0.0215;  // [m]
+  double vx = 0, vy = 0;            // [m/s]
+  double confidence = 0;
+  int camera_id = 0;
+  bool visible = false;
+  double last_measured = 0;
+  Eigen::Matrix2d position_covariance = Eigen::Matrix2d::Zero();
+};
+
+struct TrackerOutput {
+  double stamp = 0;                  // [s] time the states are predicted to
+  std::vector<TrackedRobot> robots;  // ordered by team, id, track_id
+  std::vector<TrackedBall> balls;    // primary first
+  const TrackedBall* primaryBall() const {
+    return !balls.empty() && balls.front().primary ? &balls.front() : nullptr;
+  }
+};
+
+// What one update() did (for diagnostics and the search policy).
+struct TrackerUpdateReport {
+  TimeDecision time;
+  int robots_measured = 0;        // tracks updated (including heading-rejected, reinitialised)
+  int robots_created = 0;
+  int robot_outliers = 0;         // measurements rejected by the gate
+  int heading_outliers = 0;       // position used, heading rejected
+  int robot_maneuvers = 0;        // outside the gate, taken as a sudden velocity change
+  int heading_maneuvers = 0;      // heading outside its gate, taken as a sudden turn
+  int robots_reinitialised = 0;   // restarted after consecutive rejections
+  int duplicate_detections = 0;   // same identity twice in one frame
+  int invalid_detections = 0;     // non-finite numbers
+  int balls_measured = 0;
+  int ball_kicks = 0;             // ball filters restarted by a kick
+  int balls_created = 0;
+  int tracks_lost = 0;            // robot and ball tracks dropped after their lost timeout
+  std::vector<int> measured_track_ids;  // tracks this frame updated or created
+  bool reset() const { return time.action == TimeAction::Reset; }
+  bool processed() const { return time.action != TimeAction::Drop; }
+};
+
+// Totals since construction (reset() does not clear them).
+struct TrackerStats {
+  long frames = 0, dropped_frames = 0, resets = 0;
+  long robot_outliers = 0, heading_outliers = 0, robots_reinitialised = 0, robot_maneuvers = 0;
+  long heading_maneuvers = 0;
+  long ball_kicks = 0, tracks_created = 0, tracks_lost = 0;
+};
+
+class Tracker {
+ public:
+  explicit Tracker(const TrackerParams& params = {});
+
+  // Processes one camera frame (robots and ball candidates of that frame).
+  TrackerUpdateReport update(const CameraFrameDetections& frame);
+  // All tracks at `stamp`: predicted forward (covariance grows), or extrapolated back along
+  // the velocity for a stamp before time() (frames are fused up to late_tolerance late).
+  TrackerOutput output(double stamp) const;
+  TrackerOutput output() const { return output(time()); }
+
+  void reset();  // drops all tracks and the clock
+  double time() const { return timeline_.now(); }  // measurement time of the newest frame
+  bool started() const { return timeline_.started(); }
+  std::size_t numRobotTracks() const { return robots_.size(); }
+  std::size_t numBallTracks() const { return balls_.size(); }
+  const TrackerStats& stats() const { return stats_; }
+  const TrackerParams& params() const { return p_; }
+  void setParams(const TrackerParams& p);  // validates; applies to live tracks
+
+ private:
+  struct RobotTrack {
+    int track_id;
+    Team team;
+    int id;
+    RobotFilter filter;
+    double last_measured;  // capture stamp of the last measurement
+    double last_time;      // its measurement time
+    int camera_id;
+    double confidence;
+    bool has_heading;
+    long hits;
+  };
+  struct BallTrack {
+    int track_id;
+    BallFilter filter;
+    double last_measured;
+    double last_time;
+    int camera_id;
+    double confidence;
+    double z;
+    long hits;
+    double rate;        // measurements per ball_rate_memory, at rate_stamp
+    double rate_stamp;
+  };
+  double rateAt(const BallTrack& t, double now) const;
+  void choosePrimaryBall();
+
+  void clearTracks();
+  void updateRobots(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report);
+  void updateBalls(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report);
+  void measureRobot(RobotTrack& track, const RobotDetection& d, const CameraFrameDetections& frame,
+                    double lag, TrackerUpdateReport& report);
+  void startRobot(const RobotDetection& d, const CameraFrameDetections& frame,
+                  TrackerUpdateReport& report);
+  void startBall(const BallDetection& d, const CameraFrameDetections& frame,
+                 TrackerUpdateReport& report);
+  void dropLost(TrackerUpdateReport& report);
+  RobotMeasurement compensated(const RobotTrack& track, const RobotDetection& d, double lag) const;
+  double fadedConfidence(double confidence, double last_measured, double stamp, double timeout) const;
+
+  TrackerParams p_;
+  TrackerTimeline timeline_;
+  std::vector<RobotTrack> robots_;
+  std::vector<BallTrack> balls_;
+  int primary_ball_ = -1;  // track_id of the primary ball, -1: none
+  int next_track_id_ = 1;
+  TrackerStats stats_;
+};
+
+}  // namespace soccer_vision

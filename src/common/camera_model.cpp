@@ -1,0 +1,121 @@
+#include "soccer_vision/common/camera_model.h"
+
+#include <cmath>
+
+#include "soccer_vision/common/field_geometry.h"
+
+namespace soccer_vision {
+
+CameraModel::CameraModel(const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& field_T_camera)
+    : k_(intrinsics), field_T_camera_(field_T_camera), camera_T_field_(field_T_camera.inverse()) {}
+
+CameraModel CameraModel::defaultCamera(const FieldGeometry& field, int index, int width, int height) {
+  // Designed at 1280x1024: f = 800 px at 4 m gives ~5 mm per pixel at the image centre; the
+  // image v axis runs along field x and covers the half (4.5 m) plus the 0.3 m boundary on
+  // one side and 0.3 m of overlap on the other, u covers the 6 m width plus both boundaries.
+  CameraIntrinsics k;
+  k.width = 1280;
+  k.height = 1024;
+  k.fx = k.fy = 800.0;
+  k.cx = 639.5;
+  k.cy = 511.5;
+  k.dist = {-0.12, 0.02, 0.0, 0.0, 0.0};  // barrel, like the wide-angle lenses of real fields
+
+  const double side = index == 0 ? -1.0 : 1.0;
+  const double centre_x = side * field.halfLength() / 2;
+  // Optical frame looking straight down: z_opt = -z_field, x_opt (u) = +y_field,
+  // y_opt (v) = +x_field; then a small mounting error, as no real camera hangs perfectly.
+  Eigen::Matrix3d down;
+  down.col(0) = Eigen::Vector3d::UnitY();
+  down.col(1) = Eigen::Vector3d::UnitX();
+  down.col(2) = -Eigen::Vector3d::UnitZ();
+  const Eigen::Matrix3d mount =
+      (Eigen::AngleAxisd(side * 0.015, Eigen::Vector3d::UnitZ()) *
+       Eigen::AngleAxisd(0.010, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(-side * 0.008, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = mount * down;
+  pose.translation() = Eigen::Vector3d(centre_x + side * 0.01, 0.02, 4.0);
+  CameraModel model(k, pose);
+  return (width == k.width && height == k.height) ? model : model.scaled(width, height);
+}
+
+CameraModel CameraModel::scaled(int width, int height) const {
+  const double sx = static_cast<double>(width) / k_.width;
+  const double sy = static_cast<double>(height) / k_.height;
+  CameraIntrinsics k = k_;
+  k.width = width;
+  k.height = height;
+  k.fx *= sx;
+  k.fy *= sy;
+  // Pixel centres: continuous coordinate c maps to (c + 0.5) * s - 0.5.
+  k.cx = (k_.cx + 0.5) * sx - 0.5;
+  k.cy = (k_.cy + 0.5) * sy - 0.5;
+  return CameraModel(k, field_T_camera_);
+}
+
+Eigen::Vector2d CameraModel::distortNormalized(const Eigen::Vector2d& xy) const {
+  const auto& d = k_.dist;
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
+  return {x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x),
+          y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y};
+}
+
+Eigen::Vector2d CameraModel::undistortNormalized(const Eigen::Vector2d& xy_distorted) const {
+  // Newton's method on distort(p) = target with the analytic Jacobian: converges in a few
+  // steps everywhere the distortion is monotonic (the whole image for sane lenses).
+  const auto& d = k_.dist;
+  Eigen::Vector2d p = xy_distorted;
+  for (int it = 0; it < 30; ++it) {
+    const Eigen::Vector2d err = distortNormalized(p) - xy_distorted;
+    if (err.squaredNorm() < 1e-28) break;
+    const double x = p.x(), y = p.y(), r2 = x * x + y * y;
+    const double radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
+    const double dradial_dr2 = d[0] + r2 * (2 * d[1] + 3 * r2 * d[4]);
+    Eigen::Matrix2d j;
+    j(0, 0) = radial + 2 * x * x * dradial_dr2 + 2 * d[2] * y + 6 * d[3] * x;
+    j(0, 1) = 2 * x * y * dradial_dr2 + 2 * d[2] * x + 2 * d[3] * y;
+    j(1, 0) = 2 * x * y * dradial_dr2 + 2 * d[2] * x + 2 * d[3] * y;
+    j(1, 1) = radial + 2 * y * y * dradial_dr2 + 6 * d[2] * y + 2 * d[3] * x;
+    p -= j.inverse() * err;
+  }
+  return p;
+}
+
+std::optional<Eigen::Vector2d> CameraModel::projectUndistorted(const Eigen::Vector3d& p_field) const {
+  const Eigen::Vector3d pc = camera_T_field_ * p_field;
+  if (pc.z() <= 1e-9) return std::nullopt;
+  return Eigen::Vector2d(k_.fx * pc.x() / pc.z() + k_.cx, k_.fy * pc.y() / pc.z() + k_.cy);
+}
+
+std::optional<Eigen::Vector2d> CameraModel::project(const Eigen::Vector3d& p_field) const {
+  const Eigen::Vector3d pc = camera_T_field_ * p_field;
+  if (pc.z() <= 1e-9) return std::nullopt;
+  const Eigen::Vector2d xy = distortNormalized({pc.x() / pc.z(), pc.y() / pc.z()});
+  return Eigen::Vector2d(k_.fx * xy.x() + k_.cx, k_.fy * xy.y() + k_.cy);
+}
+
+Eigen::Vector3d CameraModel::pixelRay(const Eigen::Vector2d& pixel) const {
+  const Eigen::Vector2d xy = undistortNormalized(
+      {(pixel.x() - k_.cx) / k_.fx, (pixel.y() - k_.cy) / k_.fy});
+  return (field_T_camera_.linear() * Eigen::Vector3d(xy.x(), xy.y(), 1.0)).normalized();
+}
+
+std::optional<Eigen::Vector3d> CameraModel::pixelToField(const Eigen::Vector2d& pixel,
+                                                         double plane_z) const {
+  const Eigen::Vector3d ray = pixelRay(pixel);
+  const Eigen::Vector3d c = cameraCentre();
+  if (std::abs(ray.z()) < 1e-12) return std::nullopt;
+  const double t = (plane_z - c.z()) / ray.z();
+  if (t <= 0) return std::nullopt;
+  return c + t * ray;
+}
+
+bool CameraModel::inImage(const Eigen::Vector2d& pixel, double margin) const {
+  return pixel.x() >= -0.5 + margin && pixel.y() >= -0.5 + margin &&
+         pixel.x() <= k_.width - 0.5 - margin && pixel.y() <= k_.height - 0.5 - margin;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,179 @@
+#include "soccer_vision/common/robot_pattern.h"
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+#include "soccer_vision/common/exchange_formats.h"
+
+namespace soccer_vision {
+namespace {
+
+MarkerShape disc(double x, double y, double radius) {
+  MarkerShape s;
+  s.kind = MarkerShape::Kind::Disc;
+  s.x = x;
+  s.y = y;
+  s.radius = radius;
+  return s;
+}
+
+MarkerShape polarDisc(double angle_deg, double distance, double radius) {
+  const double a = angle_deg * M_PI / 180.0;
+  return disc(distance * std::cos(a), distance * std::sin(a), radius);
+}
+
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw std::runtime_error("pattern set " + source + ": " + what);
+}
+
+double number(const YAML::Node& n, const char* key, const std::string& source) {
+  if (!n[key]) fail(source, std::string("missing '") + key + "'");
+  try {
+    return n[key].as<double>();
+  } catch (const YAML::Exception&) {
+    fail(source, std::string("'") + key + "' is not a number");
+  }
+}
+
+MarkerShape parseShape(const YAML::Node& n, const std::string& source) {
+  if (!n.IsMap()) fail(source, "a marker shape must be a map");
+  const std::string kind = n["shape"] ? n["shape"].as<std::string>() : "";
+  MarkerShape s;
+  if (kind == "disc") {
+    // Either cartesian (x, y) or polar (angle_deg from the heading, distance from the centre).
+    if (n["angle_deg"]) {
+      s = polarDisc(number(n, "angle_deg", source), number(n, "distance", source),
+                    number(n, "radius", source));
+    } else {
+      s = disc(number(n, "x", source), number(n, "y", source), number(n, "radius", source));
+    }
+    if (s.radius <= 0) fail(source, "disc radius must be positive");
+  } else if (kind == "rect") {
+    s.kind = MarkerShape::Kind::Rect;
+    s.x = number(n, "x", source);
+    s.y = number(n, "y", source);
+    s.size_x = number(n, "size_x", source);
+    s.size_y = number(n, "size_y", source);
+    if (s.size_x <= 0 || s.size_y <= 0) fail(source, "rect sizes must be positive");
+  } else {
+    fail(source, "shape must be 'disc' or 'rect', got '" + kind + "'");
+  }
+  return s;
+}
+
+// Farthest extent of a shape from the robot centre, to check it fits on the top.
+double reach(const MarkerShape& s) {
+  if (s.kind == MarkerShape::Kind::Disc) return std::hypot(s.x, s.y) + s.radius;
+  return std::hypot(std::abs(s.x) + s.size_x / 2, std::abs(s.y) + s.size_y / 2);
+}
+
+}  // namespace
+
+std::vector<ColoredMarker> PatternSet::markers(Team team, int id) const {
+  std::vector<ColoredMarker> out;
+  out.push_back({team_marker, teamColor(team)});
+  if (id >= 0 && id < static_cast<int>(ids.size())) {
+    for (std::size_t i = 0; i < slots.size(); ++i) out.push_back({slots[i], ids[id][i]});
+  }
+  return out;
+}
+
+PatternSet PatternSet::twoTag() {
+  PatternSet p;
+  p.name = "two_tag";
+  // Team tag 80 x 30 mm, 20 mm behind the centre, long side across the heading.
+  p.team_marker.kind = MarkerShape::Kind::Rect;
+  p.team_marker.x = -0.020;
+  p.team_marker.size_x = 0.030;
+  p.team_marker.size_y = 0.080;
+  p.slots = {disc(0.045, 0.0, 0.020)};  // role disc 40 mm, 45 mm ahead
+  for (ColorClass c : {ColorClass::Pink, ColorClass::Purple, ColorClass::SkyBlue,
+                       ColorClass::Green, ColorClass::Red}) {
+    p.ids.push_back({c});
+  }
+  return p;
+}
+
+PatternSet PatternSet::ssl() {
+  PatternSet p;
+  p.name = "ssl";
+  p.team_marker = disc(0.0, 0.0, 0.025);
+  // Front right, front left, back left, back right; 4-bit id, front right most significant.
+  p.slots = {polarDisc(-60, 0.065, 0.020), polarDisc(60, 0.065, 0.020),
+             polarDisc(135, 0.065, 0.020), polarDisc(-135, 0.065, 0.020)};
+  for (int id = 0; id < 16; ++id) {
+    std::vector<ColorClass> row;
+    for (int bit = 3; bit >= 0; --bit) {
+      row.push_back((id >> bit) & 1 ? ColorClass::Pink : ColorClass::Green);
+    }
+    p.ids.push_back(row);
+  }
+  return p;
+}
+
+PatternSet PatternSet::teamOnly() {
+  PatternSet p;
+  p.name = "team_only";
+  p.team_marker = disc(0.0, 0.0, 0.025);
+  return p;
+}
+
+PatternSet parsePatternSet(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    fail(source, std::string("invalid YAML: ") + e.what());
+  }
+  if (!root.IsMap()) fail(source, "top level must be a map");
+  PatternSet p;
+  p.name = root["name"] ? root["name"].as<std::string>() : source;
+  if (root["robot_radius"]) p.robot_radius = number(root, "robot_radius", source);
+  if (root["robot_height"]) p.robot_height = number(root, "robot_height", source);
+  if (!root["team_marker"]) fail(source, "missing 'team_marker'");
+  p.team_marker = parseShape(root["team_marker"], source);
+  if (root["slots"]) {
+    for (const auto& s : root["slots"]) p.slots.push_back(parseShape(s, source));
+  }
+  if (root["ids"]) {
+    for (const auto& row : root["ids"]) {
+      if (!row.IsSequence() || row.size() != p.slots.size()) {
+        fail(source, "id " + std::to_string(p.ids.size()) + " must list one colour per slot (" +
+                         std::to_string(p.slots.size()) + ")");
+      }
+      std::vector<ColorClass> colors;
+      for (const auto& c : row) {
+        const auto cls = parseColorClass(c.as<std::string>());
+        if (!cls || !isMarkerColor(*cls)) {
+          fail(source, "'" + c.as<std::string>() + "' is not a marker colour");
+        }
+        colors.push_back(*cls);
+      }
+      p.ids.push_back(colors);
+    }
+  }
+  if (!p.slots.empty() && p.ids.empty()) fail(source, "slots given but no ids");
+  std::set<std::vector<ColorClass>> unique(p.ids.begin(), p.ids.end());
+  if (unique.size() != p.ids.size()) fail(source, "two ids share the same colours");
+  if (reach(p.team_marker) > p.robot_radius) fail(source, "team marker exceeds the robot top");
+  for (const auto& s : p.slots) {
+    if (reach(s) > p.robot_radius) fail(source, "an id marker exceeds the robot top");
+  }
+  return p;
+}
+
+PatternSet loadPatternSet(const std::string& path) {
+  return parsePatternSet(readTextFile(path), path);
+}
+
+PatternSet patternSetByName(const std::string& name_or_path) {
+  if (name_or_path == "two_tag") return PatternSet::twoTag();
+  if (name_or_path == "ssl") return PatternSet::ssl();
+  if (name_or_path == "team_only") return PatternSet::teamOnly();
+  return loadPatternSet(name_or_path);
+}
+
+}  // namespace soccer_vision

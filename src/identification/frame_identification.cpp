@@ -1,0 +1,27 @@
+#include "soccer_vision/identification/frame_identification.h"
+
+namespace soccer_vision {
+
+FrameIdentifier::FrameIdentifier(const CameraModel& camera, const PatternSet& patterns, const FieldGeometry& field,
+                                 const IdentificationParams& params)
+    : params_(params), robots_(camera, patterns, params.robots), balls_(camera, field, params.balls) {}
+
+void FrameIdentifier::setParams(const IdentificationParams& params) {
+  params_ = params;
+  robots_.setParams(params.robots);
+  balls_.setParams(params.balls);
+}
+
+CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp, int camera_id,
+                                                bool global_search, bool mosaic) const {
+  CameraFrameDetections out;
+  out.stamp = stamp;
+  out.camera_id = camera_id;
+  out.global_search = global_search;
+  RobotIdentificationResult robots = robots_.identify(regions, mosaic);
+  out.robots = std::move(robots.robots);
+  out.balls = balls_.detect(regions, robots.region_used);
+  return out;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,420 @@
+#include "soccer_vision/identification/robot_identification.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <cstdint>
+#include <queue>
+#include <set>
+#include <utility>
+
+#include "soccer_vision/identification/image_footprint.h"
+#include "soccer_vision/identification/plane_region.h"
+#include "soccer_vision/identification/rigid_fit_2d.h"
+
+namespace soccer_vision {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct Observed {
+  int region = 0;  // index into the input regions
+  ColorClass color = ColorClass::None;
+  PlaneRegion plane;  // id markers (not team colours): the centre only
+  double area_px = 0;
+};
+
+struct Hypothesis {
+  int team = -1;                 // index into observed
+  std::vector<int> slot_obs;     // per slot: index into observed, -1 = missing
+  Pose2d pose;
+  int id = -1;                   // -1: unknown (ambiguous or no id markers)
+  bool heading_valid = false;
+  double confidence = 0;
+
+  std::vector<int> observedUsed() const {
+    std::vector<int> out{team};
+    for (int o : slot_obs) {
+      if (o >= 0) out.push_back(o);
+    }
+    return out;
+  }
+};
+
+// Colour sets as bit masks: a slot's colours are tested for every candidate pairing.
+using ColorMask = std::uint32_t;
+ColorMask colorBit(ColorClass c) { return ColorMask{1} << static_cast<unsigned>(c); }
+
+// Slot assignments (equal length) already met, stored flat: a handful per team region, so
+// a linear search without an allocation per entry.
+class AssignmentSet {
+ public:
+  // false if `slots` was inserted before.
+  bool insert(const std::vector<int>& slots) {
+    const std::size_t n = slots.size();
+    if (n == 0) return !std::exchange(empty_seen_, true);  // team-only patterns
+    for (std::size_t i = 0; i + n <= flat_.size(); i += n) {
+      if (std::equal(slots.begin(), slots.end(), flat_.begin() + static_cast<std::ptrdiff_t>(i))) return false;
+    }
+    flat_.insert(flat_.end(), slots.begin(), slots.end());
+    return true;
+  }
+
+ private:
+  std::vector<int> flat_;
+  bool empty_seen_ = false;
+};
+
+// What one identify() call works on; the pattern geometry is precomputed per call (cheap).
+// Hypothesis forming runs per team region for every id marker near it and every slot, so
+// its scratch buffers live here and are reused instead of allocated per candidate.
+class Matcher {
+ public:
+  Matcher(const CameraModel& camera, const PatternSet& pattern, const RobotIdentificationParams& params,
+          const std::vector<Region>& regions, double axis_weight)
+      : camera_(camera), pattern_(pattern), params_(params), axis_weight_(axis_weight) {
+    const std::size_t n_slots = pattern.slots.size();
+    team_pos_ = {pattern.team_marker.x, pattern.team_marker.y};
+    slot_colors_.assign(n_slots, 0);
+    for (const auto& row : pattern.ids) {
+      for (std::size_t i = 0; i < n_slots; ++i) slot_colors_[i] |= colorBit(row[i]);
+    }
+    ColorMask id_colors = 0;
+    for (ColorMask m : slot_colors_) id_colors |= m;
+    for (std::size_t i = 0; i < n_slots; ++i) {
+      slot_pos_.emplace_back(pattern.slots[i].x, pattern.slots[i].y);
+      slot_weight_.push_back(shapeArea(pattern.slots[i]));
+      const Eigen::Vector2d d = slot_pos_.back() - team_pos_;
+      slot_dist_.push_back(d.norm());
+      slot_angle_.push_back(std::atan2(d.y(), d.x()));
+      max_reach_ = std::max(max_reach_, d.norm() + params.marker_gate);
+    }
+    team_weight_ = shapeArea(pattern.team_marker);
+    gate2_ = params.marker_gate * params.marker_gate * (1 + 1e-9);  // a superset of d <= gate
+    // An elongated team tag has a minor axis along robot x (size_x < size_y) or y.
+    const MarkerShape& tm = pattern.team_marker;
+    if (tm.kind == MarkerShape::Kind::Rect && std::max(tm.size_x, tm.size_y) > 1.2 * std::min(tm.size_x, tm.size_y)) {
+      team_axis_ = tm.size_x < tm.size_y ? 0.0 : M_PI / 2;
+    }
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+      const ColorClass c = regions[r].color;
+      const bool team = c == ColorClass::Blue || c == ColorClass::Yellow;
+      const bool id_marker = (id_colors & colorBit(c)) != 0;
+      if (!team && !id_marker) continue;
+      // Shape and axis are used for team tags only; an id marker needs just its centroid.
+      PlaneRegion plane;
+      if (team) {
+        const auto full = projectToPlane(regions[r], camera, pattern.robot_height);
+        if (!full) continue;
+        plane = *full;
+      } else {
+        const auto centre = projectCentroidToPlane(regions[r], camera, pattern.robot_height);
+        if (!centre) continue;
+        plane.centre = *centre;
+      }
+      const int o = static_cast<int>(observed_.size());
+      observed_.push_back({static_cast<int>(r), c, plane, static_cast<double>(regions[r].area)});
+      // A colour can be both team and id colour in a user pattern; then it is tried as both.
+      if (team) teams_.push_back(o);
+      if (id_marker) id_markers_.push_back(o);
+    }
+  }
+
+  const std::vector<Observed>& observed() const { return observed_; }
+  const std::vector<int>& teams() const { return teams_; }
+
+  // Valid hypotheses of team region `t` from regions not in `used`, ids not in `taken`;
+  // best first.
+  std::vector<Hypothesis> hypotheses(int t, const std::vector<char>& used,
+                                     const std::set<std::pair<Team, int>>& taken) const {
+    std::vector<Hypothesis> out;
+    const Observed& team = observed_[t];
+    const Team team_id = team.color == ColorClass::Blue ? Team::Blue : Team::Yellow;
+    AssignmentSet seen;  // slot assignments already evaluated
+    auto consider = [&](Hypothesis h, bool fitted) {
+      if (!seen.insert(h.slot_obs)) return;
+      if (!evaluate(h, fitted)) return;
+      if (h.id >= 0 && taken.count({team_id, h.id})) return;
+      out.push_back(std::move(h));
+    };
+    // Id markers within reach of this team marker: the only ones any slot can take.
+    std::vector<int> near;
+    for (int c : id_markers_) {
+      if (c != t && !used[c] && (observed_[c].plane.centre - team.plane.centre).norm() <= max_reach_ + params_.marker_gate) {
+        near.push_back(c);
+      }
+    }
+    if (!pattern_.slots.empty()) {
+      // Seeds of one robot mostly lead to the same first assignment (each of its id markers
+      // taken as its own slot); what follows depends on that assignment only, so it is
+      // refitted once.
+      AssignmentSet seeded;
+      for (int c : near) {
+        const Eigen::Vector2d d = observed_[c].plane.centre - team.plane.centre;
+        const double dist = d.norm();
+        if (dist > max_reach_) continue;
+        const double direction = std::atan2(d.y(), d.x());
+
+        for (std::size_t s = 0; s < pattern_.slots.size(); ++s) {
+          if (slot_dist_[s] < 1e-6 || std::abs(dist - slot_dist_[s]) > params_.marker_gate) continue;
+          if (!(slot_colors_[s] & colorBit(observed_[c].color))) continue;
+          Pose2d seed;
+          seed.theta = wrapAngle(direction - slot_angle_[s]);
+          const Eigen::Vector2d offset = seed.apply(team_pos_) - Eigen::Vector2d(seed.x, seed.y);
+          seed.x = team.plane.centre.x() - offset.x();
+          seed.y = team.plane.centre.y() - offset.y();
+          Hypothesis h;
+          h.team = t;
+          assignSlots(seed, near, h.slot_obs);
+          if (h.slot_obs[s] < 0) continue;  // the seed itself did not survive the assignment
+          if (!seeded.insert(h.slot_obs)) continue;
+          // Refit and reassign once: the seed pose rests on two centroids only.
+          if (!fit(h)) continue;
+          assignSlots(h.pose, near, slot_scratch_);
+          // The pose was fitted to exactly these slots when the reassignment keeps them.
+          const bool fitted = slot_scratch_ == h.slot_obs;
+          h.slot_obs.swap(slot_scratch_);
+          consider(std::move(h), fitted);
+        }
+      }
+    }
+    if (pattern_.slots.empty() || params_.report_unidentified) {
+      Hypothesis h;
+      h.team = t;
+      h.slot_obs.assign(pattern_.slots.size(), -1);
+      consider(std::move(h), false);
+    }
+    std::sort(out.begin(), out.end(),
+              [](const Hypothesis& a, const Hypothesis& b) { return a.confidence > b.confidence; });
+    return out;
+  }
+
+ private:
+  // Nearest of the candidate id-colour regions within the gate of each predicted slot,
+  // one-to-one, closest pairs first.
+  void assignSlots(const Pose2d& pose, const std::vector<int>& candidates, std::vector<int>& slot_obs) const {
+    pairs_.clear();
+    const double c = std::cos(pose.theta), sn = std::sin(pose.theta);
+    for (std::size_t s = 0; s < slot_pos_.size(); ++s) {
+      const Eigen::Vector2d& l = slot_pos_[s];
+      const Eigen::Vector2d p(pose.x + c * l.x() - sn * l.y(), pose.y + sn * l.x() + c * l.y());  // pose.apply(l)
+      for (int o : candidates) {
+        if (!(slot_colors_[s] & colorBit(observed_[o].color))) continue;
+        // Most pairs are far apart: the root only for those near the gate (same value as norm()).
+        const double d2 = (observed_[o].plane.centre - p).squaredNorm();
+        if (d2 > gate2_) continue;
+        const double d = std::sqrt(d2);
+        if (d <= params_.marker_gate) pairs_.push_back({d, s, o});
+      }
+    }
+    std::sort(pairs_.begin(), pairs_.end(), [](const SlotPair& a, const SlotPair& b) { return a.d < b.d; });
+    slot_obs.assign(slot_pos_.size(), -1);
+    for (const SlotPair& p : pairs_) {
+      if (slot_obs[p.slot] >= 0 || std::find(slot_obs.begin(), slot_obs.end(), p.obs) != slot_obs.end()) continue;
+      slot_obs[p.slot] = p.obs;
+    }
+  }
+
+  bool teamAxisUsable(const Observed& team) const {
+    return team_axis_ && team.plane.elongation >= params_.min_elongation;
+  }
+
+  // Pose from the matched markers; false when the team tag's axis contradicts it.
+  bool fit(Hypothesis& h) const {
+    const Observed& team = observed_[h.team];
+    fit_model_.assign(1, team_pos_);
+    fit_obs_.assign(1, team.plane.centre);
+    fit_w_.assign(1, team_weight_);
+    for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
+      if (h.slot_obs[s] < 0) continue;
+      fit_model_.push_back(slot_pos_[s]);
+      fit_obs_.push_back(observed_[h.slot_obs[s]].plane.centre);
+      fit_w_.push_back(slot_weight_[s]);
+    }
+    h.heading_valid = fit_model_.size() > 1;
+    std::optional<HeadingPrior> prior;
+    if (teamAxisUsable(team)) {
+      const double axis_heading = team.plane.minor_axis_angle - *team_axis_;
+      if (h.heading_valid) {
+        const double layout = fitRigid2d(fit_model_, fit_obs_, fit_w_).theta;
+        // The axis is known modulo pi: the id markers say which way is forward.
+        double a = axis_heading;
+        if (std::abs(angleDifference(a, layout)) > M_PI / 2) a += M_PI;
+        if (std::abs(angleDifference(a, layout)) > params_.axis_gate_deg * kDeg) return false;
+        prior = HeadingPrior{wrapAngle(a), axis_weight_};
+      } else {
+        prior = HeadingPrior{wrapAngle(axis_heading), 1.0};
+      }
+    }
+    h.pose = fitRigid2d(fit_model_, fit_obs_, fit_w_, prior);
+    if (!h.heading_valid && fit_model_.size() == 1) {
+      // Without id markers the centre is unknown by the team tag's offset: report the tag.
+      h.pose.x = team.plane.centre.x();
+      h.pose.y = team.plane.centre.y();
+    }
+    return true;
+  }
+
+  // Fit (unless `fitted`: h.pose already is the fit to h.slot_obs), gate and score; false
+  // when the hypothesis is implausible. Cheap gates first (completeness, positions, axis),
+  // the projected areas last.
+  bool evaluate(Hypothesis& h, bool fitted) const {
+    int matched = 0;
+    for (int o : h.slot_obs) matched += o >= 0;
+    const int missing = static_cast<int>(pattern_.slots.size()) - matched;
+    if (missing > params_.max_missing_markers && !params_.report_unidentified) return false;
+    if (!fitted && !fit(h)) return false;
+    const Observed& team = observed_[h.team];
+    const double c = std::cos(h.pose.theta), sn = std::sin(h.pose.theta);
+    auto place = [&](const MarkerShape& shape) {  // h.pose.apply(shape centre)
+      return Eigen::Vector2d(h.pose.x + c * shape.x - sn * shape.y, h.pose.y + sn * shape.x + c * shape.y);
+    };
+    double cost = 0;
+    int terms = 0;
+    auto position = [&](const MarkerShape& shape, const Observed& o) {
+      const double r = (o.plane.centre - place(shape)).norm();
+      cost += (r / params_.position_sigma) * (r / params_.position_sigma);
+      ++terms;
+      return r <= params_.marker_gate;
+    };
+    auto area = [&](const MarkerShape& shape, const Observed& o) {
+      const double expected = expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta,
+                                                 pattern_.robot_height);
+      if (expected <= 0) return false;
+      const double ratio = o.area_px / expected;
+      const double l = std::log(ratio) / params_.area_sigma;
+      cost += l * l;
+      ++terms;
+      return ratio <= params_.area_ratio_gate && ratio >= 1.0 / params_.area_ratio_gate;
+    };
+    if (h.heading_valid && !position(pattern_.team_marker, team)) return false;
+    for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
+      if (h.slot_obs[s] >= 0 && !position(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
+    }
+    if (teamAxisUsable(team) && h.heading_valid) {
+      const double d = std::remainder(team.plane.minor_axis_angle - *team_axis_ - h.pose.theta, M_PI);
+      const double l = d / (params_.axis_sigma_deg * kDeg);
+      cost += l * l;
+      ++terms;
+    }
+    // Ids compatible with the colours seen: how many, and the first.
+    int n_compatible = 0, first_compatible = -1;
+    for (std::size_t id = 0; id < pattern_.ids.size(); ++id) {
+      bool ok = true;
+      for (std::size_t s = 0; s < h.slot_obs.size() && ok; ++s) {
+        if (h.slot_obs[s] >= 0) ok = pattern_.ids[id][s] == observed_[h.slot_obs[s]].color;
+      }
+      if (ok && n_compatible++ == 0) first_compatible = static_cast<int>(id);
+    }
+    const bool has_ids = !pattern_.ids.empty();
+    if (has_ids && n_compatible == 0) return false;
+    const bool id_known = has_ids && n_compatible == 1 && missing <= params_.max_missing_markers;
+    h.id = id_known ? first_compatible : -1;
+    if (has_ids && !id_known && !params_.report_unidentified) return false;
+
+    if (!area(pattern_.team_marker, team)) return false;
+    for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
+      if (h.slot_obs[s] >= 0 && !area(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
+    }
+
+    h.confidence = std::exp(-0.5 * cost / std::max(terms, 1)) * std::pow(params_.missing_marker_factor, missing);
+    if (has_ids && !id_known) h.confidence = std::min(h.confidence, 0.2);
+    return h.confidence >= params_.min_confidence;
+  }
+
+  struct SlotPair {
+    double d;
+    std::size_t slot;
+    int obs;
+  };
+
+  const CameraModel& camera_;
+  const PatternSet& pattern_;
+  const RobotIdentificationParams& params_;
+  const double axis_weight_;  // the team-tag axis' share for these regions
+  Eigen::Vector2d team_pos_;
+  double team_weight_ = 0;                 // team tag area: its weight in the fit
+  std::vector<Eigen::Vector2d> slot_pos_;  // slot centres, robot frame
+  std::vector<double> slot_weight_;        // slot areas
+  std::vector<ColorMask> slot_colors_;
+  std::vector<double> slot_dist_, slot_angle_;
+  double max_reach_ = 0;
+  double gate2_ = 0;  // squared marker_gate with a margin for rounding
+  std::optional<double> team_axis_;  // minor axis of the team tag in the robot frame
+  std::vector<Observed> observed_;
+  std::vector<int> teams_, id_markers_;
+  // Scratch (one Matcher per identify() call, used by one thread).
+  mutable std::vector<SlotPair> pairs_;
+  mutable std::vector<int> slot_scratch_;
+  mutable std::vector<Eigen::Vector2d> fit_model_, fit_obs_;
+  mutable std::vector<double> fit_w_;
+};
+
+}  // namespace
+
+RobotIdentifier::RobotIdentifier(const CameraModel& camera, const PatternSet& patterns,
+                                 const RobotIdentificationParams& params)
+    : camera_(camera), patterns_(patterns), params_(params) {}
+
+RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions, bool mosaic) const {
+  const Matcher m(camera_, patterns_, params_, regions, mosaic ? params_.axis_weight_mosaic : params_.axis_weight);
+  const auto& obs = m.observed();
+  std::vector<char> used(obs.size(), 0);
+  std::set<std::pair<Team, int>> taken;
+
+  // Greedy global assignment over each team region's current best hypothesis, best first.
+  std::vector<std::vector<Hypothesis>> options(obs.size());
+  using Entry = std::pair<double, int>;  // confidence, team observation
+  std::priority_queue<Entry> queue;
+  for (int t : m.teams()) {
+    options[t] = m.hypotheses(t, used, taken);
+    if (!options[t].empty()) queue.push({options[t].front().confidence, t});
+  }
+  std::vector<Hypothesis> accepted;
+  std::vector<char> done(obs.size(), 0);
+  while (!queue.empty()) {
+    const int t = queue.top().second;
+    queue.pop();
+    if (done[t] || used[t] || options[t].empty()) continue;
+    const Hypothesis& h = options[t].front();
+    const auto parts = h.observedUsed();
+    const bool conflict = std::any_of(parts.begin(), parts.end(), [&](int o) { return used[o] != 0; }) ||
+                          (h.id >= 0 && taken.count({obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow, h.id}));
+    if (conflict) {
+      // Regions taken since this was formed: form the hypotheses again without them.
+      options[t] = m.hypotheses(t, used, taken);
+      if (!options[t].empty()) queue.push({options[t].front().confidence, t});
+      continue;
+    }
+    for (int o : parts) used[o] = 1;
+    done[t] = 1;
+    const Team team = obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow;
+    if (h.id >= 0) taken.insert({team, h.id});
+    accepted.push_back(h);
+  }
+
+  RobotIdentificationResult out;
+  out.region_used.assign(regions.size(), false);
+  for (std::size_t o = 0; o < obs.size(); ++o) {
+    if (used[o]) out.region_used[obs[o].region] = true;
+  }
+  for (const Hypothesis& h : accepted) {
+    RobotDetection d;
+    d.team = obs[h.team].color == ColorClass::Blue ? Team::Blue : Team::Yellow;
+    d.id = h.id;
+    d.x = h.pose.x;
+    d.y = h.pose.y;
+    d.heading_valid = h.heading_valid;
+    d.theta = h.heading_valid ? wrapAngle(h.pose.theta) : 0.0;
+    d.confidence = h.confidence;
+    const auto px = camera_.project({d.x, d.y, patterns_.robot_height});
+    const Region& team_region = regions[obs[h.team].region];
+    d.pixel = px ? *px : Eigen::Vector2d(team_region.cx, team_region.cy);
+    out.robots.push_back(d);
+  }
+  std::sort(out.robots.begin(), out.robots.end(),
+            [](const RobotDetection& a, const RobotDetection& b) { return a.confidence > b.confidence; });
+  return out;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,98 @@
+#include "soccer_vision/pipeline/vision_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+namespace soccer_vision {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+
+// The Segmentation nodelet's window_max_age: windows planned for a much older stamp are
+// stale (a paused or skipped stream) and the frame is searched whole.
+constexpr double kWindowMaxAge = 0.5;  // [s]
+
+}  // namespace
+
+void validate(const VisionPipelineParams& p) {
+  if (p.frame_step < 1) throw std::invalid_argument("frame_step must be >= 1");
+  validate(p.search);
+  validate(p.tracker);
+}
+
+VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const PatternSet& patterns,
+                               const FieldGeometry& field, const VisionPipelineParams& params)
+    : cameras_(std::move(cameras)), params_(params), segmenter_(params.segmentation), tracker_(params.tracker) {
+  validate(params_);
+  if (cameras_.empty()) throw std::invalid_argument("VisionPipeline: no cameras");
+  std::set<int> ids;
+  for (const PipelineCamera& c : cameras_) {
+    if (!ids.insert(c.id).second) throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " twice");
+    if (!c.segmentation) throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " has no colour table");
+    state_.emplace_back(FrameIdentifier(c.model, patterns, field, params_.identification), params_);
+  }
+}
+
+const PipelineCamera* VisionPipeline::camera(int camera_id) const {
+  for (const PipelineCamera& c : cameras_) {
+    if (c.id == camera_id) return &c;
+  }
+  return nullptr;
+}
+
+PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, double stamp) {
+  const PipelineCamera* found = camera(camera_id);
+  if (!found) throw std::invalid_argument("VisionPipeline: unknown camera " + std::to_string(camera_id));
+  const std::size_t index = static_cast<std::size_t>(found - cameras_.data());
+  const PipelineCamera& camera = *found;
+  CameraState& state = state_[index];
+
+  PipelineFrame frame;
+  frame.camera_id = camera_id;
+  frame.stamp = stamp;
+  if (!state.frame_step.process()) return frame;
+  frame.processed = true;
+
+  // No plan yet: the first frame is searched whole; a plan for a much older stamp is stale.
+  const bool stale = state.next && stamp - state.next->stamp > kWindowMaxAge;
+  static const std::vector<cv::Rect> kWhole;
+  const std::vector<cv::Rect>& windows = state.next && !stale ? state.next->rects : kWhole;
+  frame.search_reason = !state.next                                               ? GlobalSearchReason::First
+                        : stale && state.next->reason == GlobalSearchReason::None ? GlobalSearchReason::AfterReset
+                                                                                  : state.next->reason;
+
+  const auto t0 = Clock::now();
+  segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_);
+  frame.global_search = segmented_.global_search;
+  frame.windows = segmented_.windows.size();
+  frame.detections =
+      state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search, isBayer(camera.layout));
+  const auto t1 = Clock::now();
+
+  frame.prediction = tracker_.output(stamp);
+  const TrackerUpdateReport report = tracker_.update(frame.detections);
+  frame.tracker_reset = report.reset();
+  if (report.reset()) {
+    for (CameraState& s : state_) s.planner.restart();
+  }
+  state.planner.observe(report, stamp);
+  frame.output = tracker_.output(stamp);
+  state.next = state.planner.plan(tracker_, &camera.model, stamp);
+  const auto t2 = Clock::now();
+
+  const SegmentationTimings& s = segmented_.timings;
+  frame.times.preprocessing = s.illumination_ms;
+  frame.times.classification = s.classification_ms;
+  // Segmentation's morphology and regions, plus identification (its remaining time).
+  frame.times.recognition = std::max(0.0, ms(t0, t1) - s.illumination_ms - s.classification_ms);
+  frame.times.tracking = ms(t1, t2);
+  return frame;
+}
+
+}  // namespace soccer_vision

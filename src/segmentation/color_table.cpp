@@ -1,0 +1,567 @@
+#include "soccer_vision/segmentation/color_table.h"
+
+#include <algorithm>
+#include <bitset>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace soccer_vision {
+namespace {
+
+// ---------------------------------------------------------------- sample collection
+
+// Even-odd rule on the pixel centre (half-open edges: a centre on a shared edge of two
+// adjacent polygons belongs to exactly one of them).
+bool centreInside(const Polygon& poly, double x, double y) {
+  bool inside = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d& b = poly[j];
+    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+// ---------------------------------------------------------------- construction
+
+// The pixel with its channels scaled so that its V becomes `to` (rounded, saturated): the
+// colour it would show under the light its adapted V stands for.
+cv::Vec3b scaledToV(const cv::Vec3b& p, int from, int to) {
+  if (from == to || from == 0) return p;
+  const double f = static_cast<double>(to) / from;
+  return {cv::saturate_cast<std::uint8_t>(p[0] * f), cv::saturate_cast<std::uint8_t>(p[1] * f),
+          cv::saturate_cast<std::uint8_t>(p[2] * f)};
+}
+
+double circularMeanDegrees(const std::vector<Hsv>& pixels) {
+  double sx = 0, sy = 0;
+  for (const Hsv& p : pixels) {
+    const double a = p.h * M_PI / 180.0;
+    sx += std::cos(a);
+    sy += std::sin(a);
+  }
+  // Hues spread evenly around the circle (e.g. greys) have no direction: call it 0.
+  if (std::hypot(sx, sy) < 1e-9 * static_cast<double>(pixels.size())) return 0.0;
+  const double mean = std::atan2(sy, sx) * 180.0 / M_PI;
+  return mean < 0 ? mean + 360.0 : mean;
+}
+
+// Means and variances of the valid pixels, variances floored at the cell's quantisation
+// variance so that a class whose samples share one value still has a proper Gaussian.
+void fitGaussian(const std::vector<Hsv>& valid, const ColorTableParams& params, ClassStatistics& st) {
+  if (valid.empty()) return;
+  const double n = static_cast<double>(valid.size());
+  st.mean_h_valid = circularMeanDegrees(valid);
+  double sum_s = 0, sum_v = 0;
+  for (const Hsv& p : valid) {
+    sum_s += p.s;
+    sum_v += p.v;
+  }
+  st.mean_s = sum_s / n;
+  st.mean_v = sum_v / n;
+  double var_h = 0, var_s = 0, var_v = 0;
+  for (const Hsv& p : valid) {
+    const double dh = hueDifference(p.h, st.mean_h_valid);
+    var_h += dh * dh;
+    var_s += (p.s - st.mean_s) * (p.s - st.mean_s);
+    var_v += (p.v - st.mean_v) * (p.v - st.mean_v);
+  }
+  const double wh = 360.0 / params.h_bins, ws = 1.0 / params.s_bins, wv = 256.0 / params.v_bins;
+  st.var_h = std::max(var_h / n, wh * wh / 12);
+  st.var_s = std::max(var_s / n, ws * ws / 12);
+  st.var_v = std::max(var_v / n, wv * wv / 12);
+}
+
+// log p(h, s, v | c) up to the constant -1.5 log(2π) shared by all classes.
+double logLikelihood(const ClassStatistics& st, double h, double s, double v) {
+  const double dh = hueDifference(h, st.mean_h_valid);
+  const double ds = s - st.mean_s, dv = v - st.mean_v;
+  return -0.5 * (dh * dh / st.var_h + ds * ds / st.var_s + dv * dv / st.var_v) -
+         0.5 * std::log(st.var_h * st.var_s * st.var_v);
+}
+
+// ---------------------------------------------------------------- file format
+
+// Magic in the PNG style: a CR-LF / LF / ^Z sequence exposes text-mode mangling.
+constexpr char kMagic[8] = {'S', 'V', 'C', 'T', '\r', '\n', '\x1a', '\n'};
+constexpr std::size_t kVersionOffset = sizeof(kMagic);
+constexpr std::size_t kSizeOffset = kVersionOffset + 4;  // same place in every version
+constexpr std::size_t kFixedHeader = kSizeOffset + 8;
+constexpr std::size_t kChecksumBytes = 4;
+
+// CRC-32 (IEEE 802.3, as zlib and PNG compute it).
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
+  static const std::array<std::uint32_t, 256> table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < size; ++i) c = table[(c ^ data[i]) & 0xFF] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+// Little-endian encoding, independent of the host.
+class ByteWriter {
+ public:
+  void bytes(const void* p, std::size_t n) {
+    const auto* b = static_cast<const std::uint8_t*>(p);
+    out_.insert(out_.end(), b, b + n);
+  }
+  void u8(std::uint8_t v) { out_.push_back(v); }
+  void u32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out_.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
+  void u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) out_.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
+  void f64(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    u64(bits);
+  }
+  void f32(float v) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    u32(bits);
+  }
+  void patchU64(std::size_t offset, std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) out_[offset + i] = static_cast<std::uint8_t>(v >> (8 * i));
+  }
+  std::vector<std::uint8_t>& buffer() { return out_; }
+
+ private:
+  std::vector<std::uint8_t> out_;
+};
+
+class ByteReader {
+ public:
+  ByteReader(const std::vector<std::uint8_t>& data, std::size_t offset, std::size_t end,
+             const std::string& path)
+      : data_(data), pos_(offset), end_(end), path_(path) {}
+  const std::uint8_t* take(std::size_t n) {
+    if (end_ - pos_ < n) fail("inconsistent content: a record runs past the end of the data");
+    const std::uint8_t* p = data_.data() + pos_;
+    pos_ += n;
+    return p;
+  }
+  std::uint8_t u8() { return *take(1); }
+  std::uint32_t u32() { return static_cast<std::uint32_t>(le(take(4), 4)); }
+  std::uint64_t u64() { return le(take(8), 8); }
+  double f64() {
+    const std::uint64_t bits = u64();
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  float f32() {
+    const std::uint32_t bits = u32();
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  std::size_t position() const { return pos_; }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error("colour table '" + path_ + "': " + what);
+  }
+
+ private:
+  static std::uint64_t le(const std::uint8_t* p, int n) {
+    std::uint64_t v = 0;
+    for (int i = n - 1; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+  }
+  const std::vector<std::uint8_t>& data_;
+  std::size_t pos_, end_;
+  const std::string& path_;
+};
+
+void writeClassStatistics(ByteWriter& w, const ClassStatistics& st) {
+  w.u32(st.samples);
+  w.u32(st.valid);
+  w.u32(st.cells_claimed);
+  w.u32(st.cells_assigned);
+  for (double v : {st.mean_lab.l, st.mean_lab.a, st.mean_lab.b, st.mean_h, st.thresholds.lab, st.thresholds.h,
+                   st.mean_h_valid, st.var_h, st.mean_s, st.var_s, st.mean_v, st.var_v}) {
+    w.f64(v);
+  }
+}
+
+// A per-block map (CV_32FC1): u32 rows, cols, f32 values row by row; 0 x 0: none.
+void writeBlockMap(ByteWriter& w, const cv::Mat& map) {
+  w.u32(static_cast<std::uint32_t>(map.rows));
+  w.u32(static_cast<std::uint32_t>(map.cols));
+  for (int y = 0; y < map.rows; ++y) {
+    for (int x = 0; x < map.cols; ++x) w.f32(map.at<float>(y, x));
+  }
+}
+
+cv::Mat readBlockMap(ByteReader& r, std::size_t body_end, const std::string& what) {
+  const std::uint32_t rows = r.u32(), cols = r.u32();
+  if ((rows == 0) != (cols == 0) || static_cast<std::uint64_t>(rows) * cols > (body_end - r.position()) / 4) {
+    r.fail("inconsistent sizes (" + what + " of " + std::to_string(rows) + " x " + std::to_string(cols) + " blocks)");
+  }
+  cv::Mat map(static_cast<int>(rows), static_cast<int>(cols), CV_32FC1);
+  for (int y = 0; y < map.rows; ++y) {
+    for (int x = 0; x < map.cols; ++x) map.at<float>(y, x) = r.f32();
+  }
+  if (!map.empty() && !cv::checkRange(map)) r.fail("inconsistent content (" + what + " is not finite)");
+  return map;
+}
+
+ClassStatistics readClassStatistics(ByteReader& r) {
+  ClassStatistics st;
+  st.samples = r.u32();
+  st.valid = r.u32();
+  st.cells_claimed = r.u32();
+  st.cells_assigned = r.u32();
+  for (double* v : {&st.mean_lab.l, &st.mean_lab.a, &st.mean_lab.b, &st.mean_h, &st.thresholds.lab,
+                    &st.thresholds.h, &st.mean_h_valid, &st.var_h, &st.mean_s, &st.var_s, &st.mean_v,
+                    &st.var_v}) {
+    *v = r.f64();
+  }
+  return st;
+}
+
+}  // namespace
+
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size, const ColorSamples& samples) {
+  std::map<ColorClass, std::vector<cv::Point>> out;
+  cv::Mat1b taken(image_size);
+  for (const auto& [color, polygons] : samples) {
+    taken.setTo(0);
+    auto& pixels = out[color];
+    for (const Polygon& poly : polygons) {
+      if (poly.size() < 3) continue;
+      double x0 = poly[0].x(), x1 = x0, y0 = poly[0].y(), y1 = y0;
+      for (const auto& p : poly) {
+        x0 = std::min(x0, p.x());
+        x1 = std::max(x1, p.x());
+        y0 = std::min(y0, p.y());
+        y1 = std::max(y1, p.y());
+      }
+      // Clamped as doubles: polygons far outside the image must not overflow an int.
+      const int u0 = static_cast<int>(std::clamp(std::ceil(x0), 0.0, static_cast<double>(image_size.width)));
+      const int u1 = static_cast<int>(std::clamp(std::floor(x1), -1.0, image_size.width - 1.0));
+      const int v0 = static_cast<int>(std::clamp(std::ceil(y0), 0.0, static_cast<double>(image_size.height)));
+      const int v1 = static_cast<int>(std::clamp(std::floor(y1), -1.0, image_size.height - 1.0));
+      for (int v = v0; v <= v1; ++v) {
+        for (int u = u0; u <= u1; ++u) {
+          if (!taken(v, u) && centreInside(poly, u, v)) {
+            taken(v, u) = 1;
+            pixels.emplace_back(u, v);
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples) {
+  if (bgr.type() != CV_8UC3) throw std::invalid_argument("collectSamplePixels: image must be CV_8UC3 (BGR)");
+  ClassPixels out;
+  for (const auto& [color, positions] : samplePixelPositions(bgr.size(), samples)) {
+    auto& pixels = out[color];
+    pixels.reserve(positions.size());
+    for (const cv::Point& p : positions) pixels.push_back(bgr.at<cv::Vec3b>(p));
+  }
+  return out;
+}
+
+ClassThresholds ColorTableParams::thresholds(ColorClass c) const {
+  const auto it = overrides.find(c);
+  return it != overrides.end() ? it->second : ClassThresholds{threshold_lab, threshold_h};
+}
+
+void ColorTableParams::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("colour table parameters: " + what); };
+  if (h_bins < 1 || h_bins > 720) fail("h_bins must be in 1..720, got " + std::to_string(h_bins));
+  if (s_bins < 1 || s_bins > 256) fail("s_bins must be in 1..256, got " + std::to_string(s_bins));
+  if (v_bins < 1 || v_bins > 256) fail("v_bins must be in 1..256, got " + std::to_string(v_bins));
+  if (v_margin < 0 || v_margin > 255) fail("v_margin must be in 0..255, got " + std::to_string(v_margin));
+  auto check = [&](const ClassThresholds& t, const std::string& who) {
+    if (!(t.lab > 0) || !(t.h > 0)) fail(who + ": thresholds must be positive");
+  };
+  check({threshold_lab, threshold_h}, "default");
+  for (const auto& [c, t] : overrides) {
+    if (c == ColorClass::None || c >= ColorClass::Count) fail("override for an invalid class");
+    check(t, std::string(colorClassName(c)));
+  }
+}
+
+int ColorTable::hBin(double h) const {
+  double wrapped = std::fmod(h, 360.0);
+  if (wrapped < 0) wrapped += 360.0;
+  return std::min(static_cast<int>(wrapped * params_.h_bins / 360.0), params_.h_bins - 1);
+}
+
+int ColorTable::sBin(double s) const {
+  return std::min(static_cast<int>(std::clamp(s, 0.0, 1.0) * params_.s_bins), params_.s_bins - 1);
+}
+
+int ColorTable::vBin(double v) const {
+  return std::min(static_cast<int>(std::clamp(v, 0.0, 255.0) * params_.v_bins / 256.0), params_.v_bins - 1);
+}
+
+ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams& params) {
+  ClassSamplePixels as_taken;
+  for (const auto& [color, pixels] : samples) {
+    auto& out = as_taken[color];
+    out.reserve(pixels.size());
+    for (const cv::Vec3b& p : pixels) out.push_back({p, std::max({p[0], p[1], p[2]})});
+  }
+  return buildFromSamplePixels(as_taken, params);
+}
+
+ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params) {
+  params.validate();
+  ColorTable table;
+  table.params_ = params;
+  const int s_bins = params.s_bins, v_bins = params.v_bins;
+  const std::size_t hs_cells = static_cast<std::size_t>(params.h_bins) * s_bins;
+  const std::size_t n_cells = hs_cells * v_bins;
+
+  // Bit c of claims[cell] is set when class c's body contains the cell.
+  static_assert(kNumColorClasses <= 16, "claims are a 16-bit mask");
+  std::vector<std::uint16_t> claims(n_cells, 0);
+  std::vector<int> v_min(hs_cells), v_max(hs_cells);
+
+  for (const auto& [color, pixels] : samples) {
+    if (color == ColorClass::None || color >= ColorClass::Count) {
+      throw std::invalid_argument("colour table: samples for '" + std::string(colorClassName(color)) +
+                                  "', which is not a colour class");
+    }
+    if (pixels.empty()) continue;
+    ClassStatistics& st = table.stats_.classes[static_cast<std::size_t>(color)];
+    st.samples = static_cast<std::uint32_t>(pixels.size());
+    st.thresholds = params.thresholds(color);
+
+    std::vector<Hsv> hsv;
+    std::vector<Lab> lab;
+    hsv.reserve(pixels.size());
+    lab.reserve(pixels.size());
+    for (const SamplePixel& sample : pixels) {
+      hsv.push_back(bgrToHsv(sample.bgr[0], sample.bgr[1], sample.bgr[2]));
+      const cv::Vec3b p = scaledToV(sample.bgr, static_cast<int>(hsv.back().v), sample.v);
+      hsv.back().v = sample.v;
+      lab.push_back(bgrToLab(p[0], p[1], p[2]));
+      st.mean_lab.l += lab.back().l;
+      st.mean_lab.a += lab.back().a;
+      st.mean_lab.b += lab.back().b;
+    }
+    const double n = static_cast<double>(pixels.size());
+    st.mean_lab = {st.mean_lab.l / n, st.mean_lab.a / n, st.mean_lab.b / n};
+    st.mean_h = circularMeanDegrees(hsv);
+
+    std::vector<Hsv> valid;
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      if (labDistance(lab[i], st.mean_lab) < st.thresholds.lab && hueDistance(hsv[i].h, st.mean_h) < st.thresholds.h) {
+        valid.push_back(hsv[i]);
+      }
+    }
+    st.valid = static_cast<std::uint32_t>(valid.size());
+    fitGaussian(valid, params, st);
+
+    // The body: per HS cell, the V bins between its lowest and highest valid pixel.
+    std::fill(v_min.begin(), v_min.end(), INT_MAX);
+    std::fill(v_max.begin(), v_max.end(), INT_MIN);
+    for (const Hsv& p : valid) {
+      const std::size_t hs = static_cast<std::size_t>(table.hBin(p.h)) * s_bins + table.sBin(p.s);
+      const int v = static_cast<int>(p.v);
+      v_min[hs] = std::min(v_min[hs], v);
+      v_max[hs] = std::max(v_max[hs], v);
+    }
+    const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));
+    for (std::size_t hs = 0; hs < hs_cells; ++hs) {
+      if (v_max[hs] < v_min[hs]) continue;
+      for (int vb = table.vBin(v_min[hs] - params.v_margin); vb <= table.vBin(v_max[hs] + params.v_margin); ++vb) {
+        claims[hs * v_bins + vb] |= bit;
+        ++st.cells_claimed;
+      }
+    }
+  }
+
+  table.cells_.assign(n_cells, ColorClass::None);
+  const double wh = 360.0 / params.h_bins, ws = 1.0 / s_bins, wv = 256.0 / v_bins;
+  for (std::size_t i = 0; i < n_cells; ++i) {
+    const std::uint16_t mask = claims[i];
+    if (mask == 0) continue;
+    int winner = 0;
+    if (std::bitset<16>(mask).count() == 1) {
+      while (!(mask & (1u << winner))) ++winner;
+    } else {
+      ++table.stats_.overlap_cells;
+      const std::size_t hs = i / v_bins;
+      const double h = (static_cast<double>(hs / s_bins) + 0.5) * wh;
+      const double s = (static_cast<double>(hs % s_bins) + 0.5) * ws;
+      const double v = (static_cast<double>(i % v_bins) + 0.5) * wv;
+      double best = -HUGE_VAL;
+      for (int c = 0; c < kNumColorClasses; ++c) {
+        if (!(mask & (1u << c))) continue;
+        const double ll = logLikelihood(table.stats_.classes[c], h, s, v);
+        if (ll > best) {  // ties go to the lower class value: deterministic
+          best = ll;
+          winner = c;
+        }
+      }
+    }
+    table.cells_[i] = static_cast<ColorClass>(winner);
+    ++table.stats_.classes[winner].cells_assigned;
+  }
+  return table;
+}
+
+ColorTable ColorTable::withIlluminationLevels(cv::Mat levels) const {
+  if (!levels.empty() && (levels.type() != CV_32FC1 || levels.dims != 2 || !cv::checkRange(levels, true, nullptr, 1e-3, 1e6))) {
+    throw std::invalid_argument("colour table: the illumination levels must be a CV_32FC1 of finite positive levels");
+  }
+  ColorTable table = *this;
+  table.illumination_levels_ = levels.empty() ? cv::Mat() : levels.clone();
+  return table;
+}
+
+ColorTable ColorTable::withIlluminationReference(cv::Mat reference) const {
+  if (!reference.empty() && (reference.type() != CV_32FC1 || reference.dims != 2 || !cv::checkRange(reference))) {
+    throw std::invalid_argument("colour table: the illumination reference must be a CV_32FC1 of finite block means");
+  }
+  ColorTable table = *this;
+  table.illumination_reference_ = reference.empty() ? cv::Mat() : reference.clone();
+  return table;
+}
+
+// Layout (little-endian):
+//   magic[8] | u32 version | u64 file size | u32 class count | u32 h_bins, s_bins, v_bins |
+//   f64 threshold_lab, threshold_h | u32 v_margin (since version 3) |
+//   u32 override count, {u8 class, f64 lab, f64 h}... |
+//   u32 overlap cells | per class: u32 samples, valid, cells claimed, cells assigned,
+//   f64 mean L a b, mean h, threshold lab, threshold h, mean h valid, var h, mean s,
+//   var s, mean v, var v | u64 cell count, u8 cells... | u32 illumination reference rows,
+//   cols, f32 block means row by row (0 x 0: none) | illumination levels, the same way
+//   (since version 3) | u32 CRC-32 of all bytes before it
+void ColorTable::save(const std::string& path) const {
+  ByteWriter w;
+  w.bytes(kMagic, sizeof kMagic);
+  w.u32(kFormatVersion);
+  w.u64(0);  // file size, patched below
+  w.u32(kNumColorClasses);
+  w.u32(static_cast<std::uint32_t>(params_.h_bins));
+  w.u32(static_cast<std::uint32_t>(params_.s_bins));
+  w.u32(static_cast<std::uint32_t>(params_.v_bins));
+  w.f64(params_.threshold_lab);
+  w.f64(params_.threshold_h);
+  w.u32(static_cast<std::uint32_t>(params_.v_margin));
+  w.u32(static_cast<std::uint32_t>(params_.overrides.size()));
+  for (const auto& [c, t] : params_.overrides) {
+    w.u8(static_cast<std::uint8_t>(c));
+    w.f64(t.lab);
+    w.f64(t.h);
+  }
+  w.u32(stats_.overlap_cells);
+  for (const ClassStatistics& st : stats_.classes) writeClassStatistics(w, st);
+  w.u64(cells_.size());
+  w.bytes(cells_.data(), cells_.size());
+  writeBlockMap(w, illumination_reference_);
+  writeBlockMap(w, illumination_levels_);
+  w.patchU64(kSizeOffset, w.buffer().size() + kChecksumBytes);
+  w.u32(crc32(w.buffer().data(), w.buffer().size()));
+
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(w.buffer().data()), static_cast<std::streamsize>(w.buffer().size()));
+  out.close();
+  if (!out) throw std::runtime_error("colour table '" + path + "': cannot write the file");
+}
+
+ColorTable ColorTable::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("colour table '" + path + "': cannot open the file (missing or unreadable)");
+  const std::vector<std::uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ByteReader header(data, 0, data.size(), path);
+
+  // Magic, version and size first: they are where every version puts them, and a file of
+  // another version must be named as such, not as corrupt.
+  if (data.empty()) header.fail("truncated file (empty)");
+  const std::size_t magic_bytes = std::min(data.size(), sizeof kMagic);
+  if (std::memcmp(data.data(), kMagic, magic_bytes) != 0) header.fail("not a colour table file (wrong magic)");
+  if (data.size() < kFixedHeader) header.fail("truncated file (" + std::to_string(data.size()) + " bytes)");
+  header.take(sizeof kMagic);
+  const std::uint32_t version = header.u32();
+  if (version != kFormatVersion && version != 2) {
+    header.fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
+                std::to_string(kFormatVersion) + ")");
+  }
+  const std::uint64_t declared = header.u64();
+  if (data.size() < declared) {
+    header.fail("truncated file (" + std::to_string(data.size()) + " of " + std::to_string(declared) + " bytes)");
+  }
+  if (data.size() > declared || declared < kFixedHeader + kChecksumBytes) {
+    header.fail("inconsistent sizes (file has " + std::to_string(data.size()) + " bytes, header declares " +
+                std::to_string(declared) + ")");
+  }
+  const std::size_t body_end = data.size() - kChecksumBytes;
+  ByteReader checksum(data, body_end, data.size(), path);
+  const std::uint32_t stored = checksum.u32();
+  if (stored != crc32(data.data(), body_end)) header.fail("checksum mismatch (file corrupted)");
+
+  ByteReader r(data, kFixedHeader, body_end, path);
+  if (r.u32() != static_cast<std::uint32_t>(kNumColorClasses)) {
+    r.fail("inconsistent sizes (class count differs from this build's " + std::to_string(kNumColorClasses) + ")");
+  }
+  ColorTable table;
+  ColorTableParams& p = table.params_;
+  p.h_bins = static_cast<int>(r.u32());
+  p.s_bins = static_cast<int>(r.u32());
+  p.v_bins = static_cast<int>(r.u32());
+  p.threshold_lab = r.f64();
+  p.threshold_h = r.f64();
+  p.v_margin = version >= 3 ? static_cast<int>(r.u32()) : 0;
+  p.overrides.clear();
+  const std::uint32_t n_overrides = r.u32();
+  for (std::uint32_t i = 0; i < n_overrides; ++i) {
+    const auto c = static_cast<ColorClass>(r.u8());
+    ClassThresholds t;
+    t.lab = r.f64();
+    t.h = r.f64();
+    p.overrides[c] = t;
+  }
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    r.fail(std::string("inconsistent content: ") + e.what());
+  }
+  table.stats_.overlap_cells = r.u32();
+  for (ClassStatistics& st : table.stats_.classes) st = readClassStatistics(r);
+  const std::uint64_t n_cells = r.u64();
+  const std::uint64_t expected = static_cast<std::uint64_t>(p.h_bins) * p.s_bins * p.v_bins;
+  if (n_cells != expected) {
+    r.fail("inconsistent sizes (" + std::to_string(n_cells) + " cells for " + std::to_string(p.h_bins) + " x " +
+           std::to_string(p.s_bins) + " x " + std::to_string(p.v_bins) + " bins)");
+  }
+  const std::uint8_t* cells = r.take(n_cells);
+  table.cells_.resize(n_cells);
+  for (std::size_t i = 0; i < n_cells; ++i) {
+    if (cells[i] >= kNumColorClasses) r.fail("inconsistent content (cell " + std::to_string(i) + " has no class)");
+    table.cells_[i] = static_cast<ColorClass>(cells[i]);
+  }
+  table.illumination_reference_ = readBlockMap(r, body_end, "illumination reference");
+  if (version >= 3) {
+    table.illumination_levels_ = readBlockMap(r, body_end, "illumination levels");
+    if (!table.illumination_levels_.empty() && !cv::checkRange(table.illumination_levels_, true, nullptr, 1e-3, 1e6)) {
+      r.fail("inconsistent content (illumination levels are not positive)");
+    }
+  }
+  if (r.position() != body_end) r.fail("inconsistent sizes (unexpected bytes after the cells)");
+  return table;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,153 @@
+#include "soccer_vision/segmentation/segmenter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <chrono>
+
+#include "soccer_vision/common/class_colors.h"
+
+namespace soccer_vision {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Image pixels -> label pixels: Bayer labels are 2x2 quads, so a window covers every quad
+// it touches.
+cv::Rect toLabelRect(const cv::Rect& r, PixelLayout layout) {
+  if (!isBayer(layout)) return r;
+  const int x0 = r.x >> 1, y0 = r.y >> 1;
+  const int x1 = (r.x + r.width + 1) >> 1, y1 = (r.y + r.height + 1) >> 1;
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+// Label coordinates -> image pixels: quad (x, y) covers pixels 2x..2x+1, centre 2x + 0.5.
+void toImageCoordinates(Region& r) {
+  r.cx = 2 * r.cx + 0.5;
+  r.cy = 2 * r.cy + 0.5;
+  r.mu20 *= 4;
+  r.mu11 *= 4;
+  r.mu02 *= 4;
+  r.area *= 4;
+  r.bbox = cv::Rect(r.bbox.x * 2, r.bbox.y * 2, r.bbox.width * 2, r.bbox.height * 2);
+}
+
+}  // namespace
+
+std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(std::shared_ptr<const ColorTable> table) {
+  auto model = std::make_shared<SegmentationModel>();
+  model->illumination = IlluminationAdaptation(table->illuminationReference(), table->illuminationLevels());
+  model->classifier = std::make_shared<PixelClassifier>(std::move(table));
+  return model;
+}
+
+RegionParams labelParams(const RegionParams& p, int label_width) {
+  const double r = std::min(1.0, label_width / static_cast<double>(kRegionParamsWidth));
+  if (r >= 1.0) return p;
+  RegionParams q = p;
+  // The k x k opening must not erase the smallest markers. Measured on uneven_drift (a
+  // camera over half the field): the 3x3 opening keeps every robot down to 960 px wide
+  // (0.8 mm), at 780 px (a 30 mm tag ~4.5 px) it finds 71 % and at 640 px none; off (or
+  // k / 2) they are 100 %. Bayer quads at 1280 px are the 640 px case: 2 is 2.4x faster (a
+  // stride-2 grid) but opens away the partly covered edge quads of the small tags: 96.4 %
+  // of robots and 6 mm RMSE instead of 99.7 % and 3 mm.
+  if (r < kKeepKernelRatio) q.morph_kernel = p.morph_kernel > 1 ? std::max(1, p.morph_kernel / 2) : p.morph_kernel;
+  // Without the opening, regions must still hold two adjacent pixels of their class
+  // (require_pair): every marker does, single noise pixels (the most common false
+  // regions of Bayer quads) do not, and the scan reads a checkerboard, half the pixels.
+  if (p.morph_kernel > 1 && q.morph_kernel <= 1) q.require_pair = true;
+  q.min_area = std::max(1, static_cast<int>(std::lround(p.min_area * r * r)));
+  q.max_area = std::max(q.min_area, static_cast<int>(std::lround(p.max_area * r * r)));
+  q.tile_size = std::max(8, static_cast<int>(std::lround(p.tile_size * r)));
+  return q;
+}
+
+RegionParams quadLabelParams(const RegionParams& p) { return labelParams(p, kRegionParamsWidth / 2); }
+
+Segmenter::Segmenter(const SegmentationParams& params) : params_(params), extractor_(params.regions) {}
+
+void Segmenter::setParams(const SegmentationParams& params) {
+  params_ = params;
+  extractor_ = RegionExtractor(params.regions);
+  extractor_width_ = -1;
+}
+
+RegionExtractor& Segmenter::extractorFor(int label_width) {
+  if (label_width != extractor_width_) {
+    extractor_ = RegionExtractor(labelParams(params_.regions, label_width));
+    extractor_width_ = label_width;
+  }
+  return extractor_;
+}
+
+void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
+                        const std::vector<cv::Rect>& windows, SegmentationResult& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const cv::Rect image_rect(0, 0, image.cols, image.rows);
+  out.windows.clear();
+  std::vector<cv::Rect> label_windows;
+  for (const auto& w : windows) {
+    const cv::Rect clipped = w & image_rect;
+    if (clipped.empty()) continue;
+    out.windows.push_back(clipped);
+    label_windows.push_back(toLabelRect(clipped, layout));
+  }
+  // Windows that all fall outside the image leave nothing to search; a global search is
+  // only what the caller asked for with no windows at all.
+  out.global_search = windows.empty();
+
+  const BlockOffsets offsets = model.illumination.offsets(
+      image, layout, params_.illumination_k, params_.illumination_sample_step,
+      params_.max_illumination_offset, &out.illumination_size_mismatch,
+      out.global_search ? nullptr : &out.windows);
+  out.timings.illumination_ms = msSince(start);
+
+  const FrameClassifier frame(*model.classifier, image, layout, offsets, params_.sharpen);
+  RegionStatistics stats;
+  out.regions.clear();
+  if (out.global_search || !label_windows.empty()) {
+    extractorFor(labelSize(image.size(), layout).width).extract(frame, label_windows, out.regions, stats);
+  }
+  if (isBayer(layout)) {
+    for (auto& r : out.regions) toImageCoordinates(r);
+  }
+  out.cap_hits = stats.cap_hits;
+  out.grid_points = stats.grid_points;
+  out.classified_pixels = stats.classified_pixels;
+  out.timings.classification_ms = stats.classify_ms;
+  out.timings.morphology_ms = stats.morphology_ms;
+  out.timings.regions_ms = stats.regions_ms;
+  out.timings.total_ms = msSince(start);
+}
+
+cv::Mat classifyAll(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
+                    const SegmentationParams& params) {
+  const BlockOffsets offsets = model.illumination.offsets(image, layout, params.illumination_k,
+                                                          params.illumination_sample_step,
+                                                          params.max_illumination_offset);
+  const FrameClassifier frame(*model.classifier, image, layout, offsets, params.sharpen);
+  const cv::Size size = frame.labelSize();
+  cv::Mat labels(size, CV_8UC1);
+  frame.classify(cv::Rect(0, 0, size.width, size.height), labels);
+  return labels;
+}
+
+cv::Mat colorizeLabels(const cv::Mat& labels) {
+  CV_Assert(labels.type() == CV_8UC1);
+  cv::Vec3b palette[256] = {};
+  for (int c = 1; c < kNumColorClasses; ++c) {
+    const cv::Vec3f a = classAlbedo(static_cast<ColorClass>(c));
+    palette[c] = cv::Vec3b(cv::saturate_cast<uchar>(a[0]), cv::saturate_cast<uchar>(a[1]),
+                           cv::saturate_cast<uchar>(a[2]));
+  }
+  cv::Mat out(labels.size(), CV_8UC3);
+  for (int y = 0; y < labels.rows; ++y) {
+    const uchar* in = labels.ptr<uchar>(y);
+    cv::Vec3b* o = out.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < labels.cols; ++x) o[x] = palette[in[x]];
+  }
+  return out;
+}
+
+}  // namespace soccer_vision

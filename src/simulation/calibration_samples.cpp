@@ -1,0 +1,179 @@
+#include "soccer_vision/simulation/calibration_samples.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace soccer_vision {
+namespace {
+
+constexpr int kPolygonVertices = 12;
+
+// Point in the robot frame -> field point at the marker plane.
+Eigen::Vector3d robotToField(const RobotState& r, double x, double y, double z) {
+  const double c = std::cos(r.theta), s = std::sin(r.theta);
+  return {r.x + c * x - s * y, r.y + s * x + c * y, z};
+}
+
+// Outline of a marker shape (robot frame), scaled about its centre by `shrink`.
+std::vector<Eigen::Vector2d> outline(const MarkerShape& m, double shrink) {
+  std::vector<Eigen::Vector2d> pts;
+  if (m.kind == MarkerShape::Kind::Disc) {
+    for (int i = 0; i < kPolygonVertices; ++i) {
+      const double a = 2 * M_PI * i / kPolygonVertices;
+      pts.emplace_back(m.x + shrink * m.radius * std::cos(a), m.y + shrink * m.radius * std::sin(a));
+    }
+  } else {
+    const double hx = shrink * m.size_x / 2, hy = shrink * m.size_y / 2;
+    pts = {{m.x - hx, m.y - hy}, {m.x + hx, m.y - hy}, {m.x + hx, m.y + hy}, {m.x - hx, m.y + hy}};
+  }
+  return pts;
+}
+
+// Distance from a point (robot frame) to the nearest marker edge, negative inside.
+double markerDistance(const MarkerShape& m, double x, double y) {
+  if (m.kind == MarkerShape::Kind::Disc) return std::hypot(x - m.x, y - m.y) - m.radius;
+  const double dx = std::abs(x - m.x) - m.size_x / 2, dy = std::abs(y - m.y) - m.size_y / 2;
+  return std::hypot(std::max(dx, 0.0), std::max(dy, 0.0)) + std::min(std::max(dx, dy), 0.0);
+}
+
+// The spot of the robot top farthest from every marker and from the rim.
+Eigen::Vector2d clearestTopSpot(const std::vector<ColoredMarker>& markers, double radius,
+                                double& clearance) {
+  clearance = -1;
+  Eigen::Vector2d best(0, 0);
+  for (double x = -radius; x <= radius; x += 0.0025) {
+    for (double y = -radius; y <= radius; y += 0.0025) {
+      double c = radius - std::hypot(x, y);
+      for (const auto& m : markers) c = std::min(c, markerDistance(m.shape, x, y));
+      if (c > clearance) {
+        clearance = c;
+        best = {x, y};
+      }
+    }
+  }
+  return best;
+}
+
+class PolygonProjector {
+ public:
+  PolygonProjector(const CameraModel& camera, double margin) : camera_(camera), margin_(margin) {}
+  // Projects field points; false if any falls outside the image margin.
+  bool project(const std::vector<Eigen::Vector3d>& field_pts, Polygon& out) const {
+    out.clear();
+    for (const auto& p : field_pts) {
+      const auto px = camera_.project(p);
+      if (!px || !camera_.inImage(*px, margin_)) return false;
+      out.push_back(*px);
+    }
+    return true;
+  }
+
+ private:
+  const CameraModel& camera_;
+  double margin_;
+};
+
+std::vector<Eigen::Vector3d> square(double cx, double cy, double half, double z) {
+  return {{cx - half, cy - half, z}, {cx + half, cy - half, z}, {cx + half, cy + half, z},
+          {cx - half, cy + half, z}};
+}
+
+double distanceToSegment(const Eigen::Vector2d& p, const LineSegment& s) {
+  const Eigen::Vector2d d = s.b - s.a;
+  const double t = std::clamp((p - s.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (s.a + t * d - p).norm();
+}
+
+double distanceToLines(const Eigen::Vector2d& p, const FieldGeometry& field) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const auto& s : field.lines()) d = std::min(d, distanceToSegment(p, s));
+  for (const auto& c : field.circles()) d = std::min(d, std::abs((p - c.centre).norm() - c.radius));
+  return d;
+}
+
+}  // namespace
+
+ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& camera,
+                                const FieldGeometry& field, const PatternSet& patterns,
+                                const SampleOptions& options) {
+  ColorSamples samples;
+  const PolygonProjector projector(camera, options.image_margin);
+  const double z_top = patterns.robot_height;
+  Polygon poly;
+
+  for (const auto& r : scene.robots) {
+    const auto markers = patterns.markers(r.team, r.id);
+    for (const auto& m : markers) {
+      std::vector<Eigen::Vector3d> pts;
+      for (const auto& q : outline(m.shape, options.shrink)) pts.push_back(robotToField(r, q.x(), q.y(), z_top));
+      if (projector.project(pts, poly)) samples[m.color].push_back(poly);
+    }
+    double clearance = 0;
+    const Eigen::Vector2d spot = clearestTopSpot(markers, patterns.robot_radius, clearance);
+    if (clearance > 0.006) {
+      MarkerShape s;
+      s.x = spot.x();
+      s.y = spot.y();
+      s.radius = clearance;
+      std::vector<Eigen::Vector3d> pts;
+      for (const auto& q : outline(s, options.shrink)) pts.push_back(robotToField(r, q.x(), q.y(), z_top));
+      if (projector.project(pts, poly)) samples[ColorClass::RobotTop].push_back(poly);
+    }
+  }
+
+  for (const auto& b : scene.balls) {
+    // A disc on the plane through the ball centre: its outline projects inside the ball.
+    const double radius = options.shrink * 0.0215;
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < kPolygonVertices; ++i) {
+      const double a = 2 * M_PI * i / kPolygonVertices;
+      pts.emplace_back(b.x + radius * std::cos(a), b.y + radius * std::sin(a), b.z);
+    }
+    if (projector.project(pts, poly)) samples[ColorClass::Orange].push_back(poly);
+  }
+
+  // Carpet: 10 cm squares on a coarse grid, away from lines, robots and balls.
+  const double keep_out = 0.25, half = 0.05;
+  int carpet = 0;
+  for (double x = -field.halfLength() + 0.4; x < field.halfLength() && carpet < options.carpet_patches; x += 0.83) {
+    for (double y = -field.halfWidth() + 0.4; y < field.halfWidth() && carpet < options.carpet_patches; y += 0.97) {
+      bool clear = distanceToLines({x, y}, field) > half + 0.05;
+      for (const auto& r : scene.robots) clear = clear && std::hypot(r.x - x, r.y - y) > keep_out;
+      for (const auto& b : scene.balls) clear = clear && std::hypot(b.x - x, b.y - y) > keep_out;
+      if (clear && projector.project(square(x, y, half, 0.0), poly)) {
+        samples[ColorClass::Carpet].push_back(poly);
+        ++carpet;
+      }
+    }
+  }
+
+  // Lines: thin strips along the middle of each straight line, 30 cm long, clear of robots.
+  for (const auto& s : field.lines()) {
+    const Eigen::Vector2d mid = (s.a + s.b) / 2, dir = (s.b - s.a).normalized();
+    const Eigen::Vector2d n(-dir.y(), dir.x());
+    bool clear = true;
+    for (const auto& r : scene.robots) clear = clear && (Eigen::Vector2d(r.x, r.y) - mid).norm() > 0.4;
+    const double hl = 0.15, hw = 0.25 * field.line_width;
+    std::vector<Eigen::Vector3d> pts;
+    for (const Eigen::Vector2d& c : {Eigen::Vector2d(mid - hl * dir - hw * n), Eigen::Vector2d(mid + hl * dir - hw * n),
+                                    Eigen::Vector2d(mid + hl * dir + hw * n), Eigen::Vector2d(mid - hl * dir + hw * n)}) {
+      pts.emplace_back(c.x(), c.y(), 0.0);
+    }
+    if (clear && projector.project(pts, poly)) samples[ColorClass::Line].push_back(poly);
+  }
+  return samples;
+}
+
+std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera,
+                                                      const FieldGeometry& field,
+                                                      double image_margin) {
+  std::vector<FieldCorrespondence> out;
+  for (const auto& p : field.landmarks()) {
+    const auto px = camera.project(p);
+    if (px && camera.inImage(*px, image_margin)) out.push_back({*px, p});
+  }
+  return out;
+}
+
+}  // namespace soccer_vision

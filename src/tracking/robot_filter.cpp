@@ -1,0 +1,200 @@
+#include "soccer_vision/tracking/robot_filter.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Cholesky>
+
+#include "soccer_vision/common/angle.h"
+#include "soccer_vision/tracking/constant_velocity.h"
+
+namespace soccer_vision {
+namespace {
+
+void requirePositive(double v, const char* name) {
+  if (!(v > 0) || !std::isfinite(v)) {
+    throw std::invalid_argument(std::string("robot filter: ") + name + " must be > 0 (got " +
+                                std::to_string(v) + ")");
+  }
+}
+
+// Heading std-dev of a track started without a heading: any direction.
+constexpr double kUnknownHeadingSigma = M_PI;
+// Largest heading innovation ever taken as a turn manoeuvre: a pattern read the wrong way
+// round is pi off, and must stay an outlier however long the robot was not seen.
+constexpr double kMaxManeuverTurn = M_PI / 2;
+
+}  // namespace
+
+void validate(const RobotFilterParams& p) {
+  requirePositive(p.accel_noise_xy, "accel_noise_xy");
+  requirePositive(p.accel_noise_theta, "accel_noise_theta");
+  requirePositive(p.sigma_x, "sigma_x");
+  requirePositive(p.sigma_y, "sigma_y");
+  requirePositive(p.sigma_theta, "sigma_theta");
+  requirePositive(p.init_sigma_v, "init_sigma_v");
+  requirePositive(p.init_sigma_omega, "init_sigma_omega");
+  requirePositive(p.gate_position_d2, "gate_position_d2");
+  requirePositive(p.gate_heading_d2, "gate_heading_d2");
+  if (!(p.gate_min_distance >= 0)) throw std::invalid_argument("robot filter: gate_min_distance must be >= 0");
+  if (!(p.gate_min_angle >= 0)) throw std::invalid_argument("robot filter: gate_min_angle must be >= 0");
+  if (!(p.maneuver_speed_change >= 0) || !std::isfinite(p.maneuver_speed_change)) {
+    throw std::invalid_argument("robot filter: maneuver_speed_change must be >= 0");
+  }
+  if (!(p.maneuver_omega_change >= 0) || !std::isfinite(p.maneuver_omega_change)) {
+    throw std::invalid_argument("robot filter: maneuver_omega_change must be >= 0");
+  }
+  if (p.reinit_after_rejections < 1) {
+    throw std::invalid_argument("robot filter: reinit_after_rejections must be >= 1");
+  }
+}
+
+RobotFilter::RobotFilter(const RobotFilterParams& params, const RobotMeasurement& m) : p_(params) {
+  start(m);
+}
+
+void RobotFilter::start(const RobotMeasurement& m) {
+  x_ = State::Zero();
+  x_(0) = m.x;
+  x_(1) = m.y;
+  P_ = Covariance::Zero();
+  P_(0, 0) = p_.sigma_x * p_.sigma_x;
+  P_(1, 1) = p_.sigma_y * p_.sigma_y;
+  P_(3, 3) = P_(4, 4) = p_.init_sigma_v * p_.init_sigma_v;
+  startHeading(m.heading_valid ? m.theta : 0.0);
+  if (!m.heading_valid) P_(2, 2) = kUnknownHeadingSigma * kUnknownHeadingSigma;
+  rejections_ = 0;
+  heading_rejections_ = 0;
+  since_update_ = 0;
+}
+
+void RobotFilter::startHeading(double theta) {
+  x_(2) = wrapToPi(theta);
+  x_(5) = 0;
+  since_heading_ = 0;
+  P_.row(2).setZero();
+  P_.col(2).setZero();
+  P_.row(5).setZero();
+  P_.col(5).setZero();
+  P_(2, 2) = p_.sigma_theta * p_.sigma_theta;
+  P_(5, 5) = p_.init_sigma_omega * p_.init_sigma_omega;
+}
+
+void RobotFilter::predicted(double dt, State& x, Covariance& P) const {
+  dt = std::max(0.0, dt);
+  const auto F = constantVelocityTransition<3>(dt);
+  const Eigen::Vector3d noise(p_.accel_noise_xy, p_.accel_noise_xy, p_.accel_noise_theta);
+  x = F * x_;
+  x(2) = wrapToPi(x(2));
+  P = F * P_ * F.transpose() + constantVelocityProcessNoise<3>(noise, dt);
+}
+
+void RobotFilter::predict(double dt) {
+  if (!(dt > 0)) return;
+  State x;
+  Covariance P;
+  predicted(dt, x, P);
+  x_ = x;
+  P_ = P;
+  since_update_ += dt;
+  since_heading_ += dt;
+}
+
+double RobotFilter::positionDistance2(double x, double y) const {
+  const Eigen::Vector2d innovation(x - x_(0), y - x_(1));
+  Eigen::Matrix2d S = P_.topLeftCorner<2, 2>();
+  S(0, 0) += p_.sigma_x * p_.sigma_x;
+  S(1, 1) += p_.sigma_y * p_.sigma_y;
+  return innovation.dot(S.ldlt().solve(innovation));
+}
+
+void RobotFilter::applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H,
+                              const Eigen::MatrixXd& R) {
+  const Eigen::MatrixXd S = H * P_ * H.transpose() + R;
+  const Eigen::MatrixXd K = P_ * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(S.rows(), S.rows()));
+  x_ += K * innovation;
+  x_(2) = wrapToPi(x_(2));
+  // Joseph form: stays symmetric positive definite over thousands of updates.
+  const Covariance I_KH = Covariance::Identity() - K * H;
+  P_ = I_KH * P_ * I_KH.transpose() + K * R * K.transpose();
+}
+
+GateResult RobotFilter::update(const RobotMeasurement& m) {
+  const double dx = m.x - x_(0), dy = m.y - x_(1);
+  const double distance = std::hypot(dx, dy);
+  bool position_ok = distance <= p_.gate_min_distance || positionDistance2(m.x, m.y) <= p_.gate_position_d2;
+  const bool maneuver = !position_ok && p_.maneuver_speed_change > 0 &&
+                        distance <= p_.maneuver_speed_change * since_update_ + p_.gate_min_distance;
+  if (maneuver) {
+    // A velocity jump dv at the last update moves the position by dv * t since then.
+    const double var = 0.25 * p_.maneuver_speed_change * p_.maneuver_speed_change;
+    const double t = since_update_;
+    for (int i = 0; i < 2; ++i) {
+      P_(i, i) += var * t * t;
+      P_(i, i + 3) += var * t;
+      P_(i + 3, i) += var * t;
+      P_(i + 3, i + 3) += var;
+    }
+    position_ok = true;
+  }
+  if (!position_ok) {
+    if (++rejections_ >= p_.reinit_after_rejections) {
+      start(m);
+      return GateResult::Reinitialised;
+    }
+    return GateResult::Rejected;
+  }
+  rejections_ = 0;
+  since_update_ = 0;
+
+  bool use_heading = false;
+  bool heading_maneuver = false;
+  if (m.heading_valid) {
+    const double dtheta = wrapToPi(m.theta - x_(2));
+    const double s = P_(2, 2) + p_.sigma_theta * p_.sigma_theta;
+    use_heading = std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
+    heading_maneuver = !use_heading && p_.maneuver_omega_change > 0 &&
+                       std::abs(dtheta) <= std::min(kMaxManeuverTurn, p_.maneuver_omega_change * since_heading_ +
+                                                                          p_.gate_min_angle);
+    if (heading_maneuver) {
+      // An angular-velocity jump dω at the last heading update turns the robot by dω * t since.
+      const double var = 0.25 * p_.maneuver_omega_change * p_.maneuver_omega_change;
+      const double t = since_heading_;
+      P_(2, 2) += var * t * t;
+      P_(2, 5) += var * t;
+      P_(5, 2) += var * t;
+      P_(5, 5) += var;
+      use_heading = true;
+    }
+    if (!use_heading && ++heading_rejections_ >= p_.reinit_after_rejections) {
+      startHeading(m.theta);  // the heading really changed (or the track began without one)
+      heading_rejections_ = 0;
+      use_heading = false;    // just set from this measurement; update the position below
+    } else if (use_heading) {
+      heading_rejections_ = 0;
+    }
+  }
+
+  const int rows = use_heading ? 3 : 2;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(rows, 6);
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, rows);
+  Eigen::VectorXd innovation(rows);
+  H(0, 0) = H(1, 1) = 1;
+  R(0, 0) = p_.sigma_x * p_.sigma_x;
+  R(1, 1) = p_.sigma_y * p_.sigma_y;
+  innovation(0) = dx;
+  innovation(1) = dy;
+  if (use_heading) {
+    since_heading_ = 0;
+    H(2, 2) = 1;
+    R(2, 2) = p_.sigma_theta * p_.sigma_theta;
+    innovation(2) = wrapToPi(m.theta - x_(2));
+  }
+  applyUpdate(innovation, H, R);
+  if (maneuver) return GateResult::Maneuver;
+  if (heading_maneuver) return GateResult::HeadingManeuver;
+  return (m.heading_valid && !use_heading) ? GateResult::HeadingRejected : GateResult::Accepted;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,94 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "soccer_vision/common/robot_pattern.h"
+
+using namespace soccer_vision;
+
+namespace {
+const std::string kConfig = std::string(SOCCER_VISION_SOURCE_DIR) + "/config/patterns/";
+
+void expectSameShape(const MarkerShape& a, const MarkerShape& b) {
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_NEAR(a.x, b.x, 1e-9);
+  EXPECT_NEAR(a.y, b.y, 1e-9);
+  EXPECT_NEAR(a.radius, b.radius, 1e-9);
+  EXPECT_NEAR(a.size_x, b.size_x, 1e-9);
+  EXPECT_NEAR(a.size_y, b.size_y, 1e-9);
+}
+
+void expectSameSet(const PatternSet& a, const PatternSet& b) {
+  EXPECT_EQ(a.name, b.name);
+  expectSameShape(a.team_marker, b.team_marker);
+  ASSERT_EQ(a.slots.size(), b.slots.size());
+  for (std::size_t i = 0; i < a.slots.size(); ++i) expectSameShape(a.slots[i], b.slots[i]);
+  EXPECT_EQ(a.ids, b.ids);
+}
+}  // namespace
+
+TEST(Patterns, TwoTagMatchesDesign) {
+  const auto p = PatternSet::twoTag();
+  // Team tag 80 x 30 mm, centre 20 mm behind, long side across the heading.
+  EXPECT_EQ(p.team_marker.kind, MarkerShape::Kind::Rect);
+  EXPECT_DOUBLE_EQ(p.team_marker.x, -0.020);
+  EXPECT_DOUBLE_EQ(p.team_marker.size_y, 0.080);
+  EXPECT_DOUBLE_EQ(p.team_marker.size_x, 0.030);
+  // Role disc 40 mm, 45 mm ahead; ids 0..4 pink, purple, sky_blue, green, red.
+  ASSERT_EQ(p.slots.size(), 1u);
+  EXPECT_DOUBLE_EQ(p.slots[0].x, 0.045);
+  EXPECT_DOUBLE_EQ(p.slots[0].radius, 0.020);
+  ASSERT_EQ(p.maxRobotsPerTeam(), 5);
+  EXPECT_EQ(p.markers(Team::Yellow, 2)[0].color, ColorClass::Yellow);
+  EXPECT_EQ(p.markers(Team::Yellow, 2)[1].color, ColorClass::SkyBlue);
+  EXPECT_EQ(p.markers(Team::Blue, 4)[1].color, ColorClass::Red);
+}
+
+TEST(Patterns, SslMatchesDesign) {
+  const auto p = PatternSet::ssl();
+  EXPECT_DOUBLE_EQ(p.team_marker.radius, 0.025);
+  ASSERT_EQ(p.slots.size(), 4u);
+  const double angles[] = {-60, 60, 135, -135};  // FR, FL, BL, BR
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(std::hypot(p.slots[i].x, p.slots[i].y), 0.065, 1e-12);
+    EXPECT_NEAR(std::atan2(p.slots[i].y, p.slots[i].x) * 180 / M_PI, angles[i], 1e-9);
+    EXPECT_DOUBLE_EQ(p.slots[i].radius, 0.020);
+  }
+  ASSERT_EQ(p.maxRobotsPerTeam(), 16);
+  const auto g = ColorClass::Green, k = ColorClass::Pink;
+  EXPECT_EQ(p.ids[0], (std::vector<ColorClass>{g, g, g, g}));
+  EXPECT_EQ(p.ids[15], (std::vector<ColorClass>{k, k, k, k}));
+  EXPECT_EQ(p.ids[8], (std::vector<ColorClass>{k, g, g, g}));   // front right is the MSB
+  EXPECT_EQ(p.ids[1], (std::vector<ColorClass>{g, g, g, k}));   // back right is the LSB
+}
+
+TEST(Patterns, FilesEqualBuiltIns) {
+  expectSameSet(loadPatternSet(kConfig + "two_tag.yaml"), PatternSet::twoTag());
+  expectSameSet(loadPatternSet(kConfig + "ssl.yaml"), PatternSet::ssl());
+  expectSameSet(loadPatternSet(kConfig + "team_only.yaml"), PatternSet::teamOnly());
+  EXPECT_EQ(patternSetByName("ssl").ids.size(), 16u);
+}
+
+TEST(Patterns, BadFilesAreRejectedWithAClearMessage) {
+  const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
+  auto error = [](const std::string& text) {
+    try {
+      parsePatternSet(text, "test.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("[1, 2").find("invalid YAML"), std::string::npos);
+  EXPECT_NE(error("name: x\n").find("team_marker"), std::string::npos);
+  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[blue_ish]]\n")
+                .find("not a marker colour"), std::string::npos);
+  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink, red]]\n")
+                .find("one colour per slot"), std::string::npos);
+  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink], [pink]]\n")
+                .find("same colours"), std::string::npos);
+  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.08, y: 0, radius: 0.02}]\nids: [[pink]]\n")
+                .find("exceeds"), std::string::npos);
+  EXPECT_NE(error("team_marker: {shape: star, x: 0, y: 0}\n").find("'disc' or 'rect'"), std::string::npos);
+  EXPECT_THROW(loadPatternSet("/nonexistent/pattern.yaml"), std::runtime_error);
+}

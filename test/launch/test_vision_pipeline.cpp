@@ -1,0 +1,206 @@
+// The whole vision system of launch/demo.launch (one manager: synthetic CameraDriver ->
+// Segmentation -> Identification -> Tracking) against the simulator's ground truth:
+// detection rate, precision, identity errors, position and heading RMSE of the tracked
+// robots, the ball; every output stamp is a capture stamp; tf frames; search windows in
+// use; the driver's image buffer is the one segmentation reads (zero copy).
+//
+// Private parameters: ~duration [s] of scoring after the first tracked output (default 10),
+// ~check_zero_copy (default true; false for images from rosbag play),
+// ~min_detection, ~min_precision, ~max_position_rmse [m], ~max_heading_rmse [deg],
+// ~min_ball_detection, ~min_ball_precision (the targets of the scenario under test).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <set>
+
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <std_msgs/UInt64MultiArray.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "soccer_vision/BallPoseArray.h"
+#include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/SearchWindows.h"
+#include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/evaluation/scoring.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+struct Recorder {
+  std::mutex mutex;
+  std::set<ros::Time> image_stamps;
+  std::map<ros::Time, RobotPoseArrayConstPtr> truth_robots, robots;
+  std::map<ros::Time, BallPoseArrayConstPtr> truth_balls, balls;
+  std::map<ros::Time, std::uint64_t> published, segmented;
+  std::size_t windows_msgs = 0, windowed_msgs = 0;
+  ros::WallTime first_output;
+};
+
+template <typename M, typename F>
+ros::Subscriber sub(ros::NodeHandle& nh, const std::string& topic, F f) {
+  return nh.subscribe<M>(topic, 200, boost::function<void(const boost::shared_ptr<const M>&)>(f));
+}
+
+double param(const std::string& name, double fallback) {
+  double v = fallback;
+  ros::NodeHandle("~").param(name, v, fallback);
+  return v;
+}
+
+}  // namespace
+
+TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
+  ros::NodeHandle nh;
+  Recorder rec;
+  auto address = [&rec](std::map<ros::Time, std::uint64_t>& into) {
+    return [&rec, &into](const std_msgs::UInt64MultiArrayConstPtr& m) {
+      if (m->data.size() < 3) return;
+      std::lock_guard<std::mutex> lock(rec.mutex);
+      into[ros::Time(static_cast<std::uint32_t>(m->data[0]), static_cast<std::uint32_t>(m->data[1]))] = m->data[2];
+    };
+  };
+  std::vector<ros::Subscriber> subs;
+  subs.push_back(sub<sensor_msgs::CameraInfo>(nh, "/camera_0/camera_info", [&](const sensor_msgs::CameraInfoConstPtr& m) {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    rec.image_stamps.insert(m->header.stamp);
+  }));
+  subs.push_back(sub<RobotPoseArray>(nh, "/camera_0/ground_truth/robots", [&](const RobotPoseArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    rec.truth_robots[m->header.stamp] = m;
+  }));
+  subs.push_back(sub<BallPoseArray>(nh, "/camera_0/ground_truth/balls", [&](const BallPoseArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    rec.truth_balls[m->header.stamp] = m;
+  }));
+  subs.push_back(sub<RobotPoseArray>(nh, "/vision/robots", [&](const RobotPoseArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    if (rec.robots.empty()) rec.first_output = ros::WallTime::now();
+    rec.robots[m->header.stamp] = m;
+  }));
+  subs.push_back(sub<BallPoseArray>(nh, "/vision/balls", [&](const BallPoseArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    rec.balls[m->header.stamp] = m;
+  }));
+  subs.push_back(sub<SearchWindows>(nh, "/camera_0/search_windows", [&](const SearchWindowsConstPtr& m) {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    ++rec.windows_msgs;
+    rec.windowed_msgs += !m->global_search && !m->windows.empty();
+  }));
+  subs.push_back(nh.subscribe<std_msgs::UInt64MultiArray>("/camera_0/debug/published_address", 200,
+                                                          address(rec.published)));
+  subs.push_back(nh.subscribe<std_msgs::UInt64MultiArray>("/camera_0/debug/image_data_address", 200,
+                                                          address(rec.segmented)));
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const double duration = param("duration", 10.0);
+  // Start-up: the colour table is calibrated and loaded, the game starts.
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
+  while (ros::ok() && ros::WallTime::now() < give_up) {
+    {
+      std::lock_guard<std::mutex> lock(rec.mutex);
+      if (!rec.robots.empty() && (ros::WallTime::now() - rec.first_output).toSec() > duration) break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  // tf while the game runs: the camera's pose and a tracked robot's frame.
+  std::string robot_frame;
+  RobotPose robot;
+  {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    ASSERT_FALSE(rec.robots.empty()) << "no /vision/robots within 60 s";
+    for (const RobotPose& r : rec.robots.rbegin()->second->robots) {
+      if (r.visible && r.id != 255) {
+        robot = r;
+        robot_frame = std::string("robot/") + (r.team == RobotPose::TEAM_BLUE ? "blue_" : "yellow_") + std::to_string(r.id);
+        break;
+      }
+    }
+  }
+  EXPECT_TRUE(tf_buffer.canTransform("field", "camera_0_optical", ros::Time(0), ros::Duration(2.0)));
+  ASSERT_FALSE(robot_frame.empty()) << "no measured robot in the last output";
+  ASSERT_TRUE(tf_buffer.canTransform("field", robot_frame, robot.header.stamp, ros::Duration(2.0))) << robot_frame;
+  const auto t = tf_buffer.lookupTransform("field", robot_frame, robot.header.stamp);
+  EXPECT_NEAR(t.transform.translation.x, robot.x, 1e-6);
+  EXPECT_NEAR(t.transform.translation.y, robot.y, 1e-6);
+  EXPECT_NEAR(2 * std::atan2(t.transform.rotation.z, t.transform.rotation.w), robot.theta, 1e-6);
+  spinner.stop();
+  for (auto& s : subs) s.shutdown();
+
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  // Every output carries the capture stamp of a camera frame.
+  // (Between the first and the last camera_info this test received: earlier frames were
+  // before its subscription was connected; at the end, a loaded machine may run the
+  // callback of the last robots message before the one of its camera_info when the
+  // subscriptions are shut down.)
+  std::size_t foreign = 0;
+  ASSERT_FALSE(rec.image_stamps.empty());
+  for (const auto& [stamp, msg] : rec.robots) {
+    if (stamp > *rec.image_stamps.begin() && stamp < *rec.image_stamps.rbegin()) {
+      foreign += !rec.image_stamps.count(stamp);
+    }
+    for (const RobotPose& r : msg->robots) ASSERT_EQ(r.header.stamp, stamp);
+  }
+  EXPECT_EQ(foreign, 0u) << "robots messages whose stamp is no image's";
+
+  Score score;
+  const BallPoseArray no_balls;
+  for (const auto& [stamp, msg] : rec.robots) {
+    const auto truth = rec.truth_robots.find(stamp);
+    if (truth == rec.truth_robots.end()) continue;
+    const auto tb = rec.truth_balls.find(stamp);
+    const auto b = rec.balls.find(stamp);
+    score.add(scoreFrame(toFrameRecord(*truth->second, tb != rec.truth_balls.end() ? *tb->second : no_balls),
+                         toFrameRecord(*msg, b != rec.balls.end() ? *b->second : no_balls)));
+  }
+  std::printf("[ vision pipeline ] %ld frames: robots detection %.3f %% (%ld/%ld), precision %.3f %%, identity errors "
+              "%ld, position RMSE %.2f mm, heading RMSE %.3f deg; ball detection %.3f %% (%ld/%ld), precision %.3f %%, "
+              "RMSE %.2f mm; %zu of %zu window messages windowed\n",
+              static_cast<long>(score.frames), 100 * score.robotDetectionRate(), static_cast<long>(score.matched_robots),
+              static_cast<long>(score.truth_robots), 100 * score.robotPrecision(), static_cast<long>(score.identity_errors),
+              1e3 * score.robotPositionRmse(), score.robotHeadingRmse() * 180 / M_PI, 100 * score.ballDetectionRate(),
+              static_cast<long>(score.matched_balls), static_cast<long>(score.truth_balls), 100 * score.ballPrecision(),
+              1e3 * score.ballPositionRmse(), rec.windowed_msgs, rec.windows_msgs);
+  EXPECT_GT(score.frames, static_cast<std::int64_t>(20 * duration));  // at least 20 Hz scored
+  EXPECT_GT(score.truth_robots, 3 * score.frames);                    // robots were in view
+  EXPECT_GE(score.robotDetectionRate(), param("min_detection", 0.999));
+  EXPECT_GE(score.robotPrecision(), param("min_precision", 0.9995));
+  EXPECT_EQ(score.identity_errors, 0);
+  EXPECT_LE(score.robotPositionRmse(), param("max_position_rmse", 0.005));
+  EXPECT_LE(score.robotHeadingRmse() * 180 / M_PI, param("max_heading_rmse", 1.0));
+  if (score.truth_balls > 0) {
+    EXPECT_GE(score.ballDetectionRate(), param("min_ball_detection", 0.98));
+    EXPECT_GE(score.ballPrecision(), param("min_ball_precision", 0.98));
+  }
+  // Tracking feeds windows back: most frames are searched in windows, not whole.
+  EXPECT_GT(rec.windowed_msgs, rec.windows_msgs * 8 / 10);
+
+  // Zero copy: for every frame seen by both, segmentation read the driver's buffer (not
+  // with rosbag play, whose images arrive serialised).
+  bool check_zero_copy = true;
+  ros::NodeHandle("~").param("check_zero_copy", check_zero_copy, true);
+  if (!check_zero_copy) return;
+  std::size_t compared = 0, same = 0;
+  for (const auto& [stamp, addr] : rec.segmented) {
+    const auto it = rec.published.find(stamp);
+    if (it == rec.published.end()) continue;
+    ++compared;
+    same += it->second == addr;
+  }
+  EXPECT_GT(compared, 100u);
+  EXPECT_EQ(same, compared) << "frames segmented from another buffer than the one published";
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_vision_pipeline");
+  return RUN_ALL_TESTS();
+}

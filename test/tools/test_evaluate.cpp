@@ -1,0 +1,231 @@
+// The evaluate tool end to end on a generated recording: the in-process run meets the
+// accuracy targets and writes one result line per processed frame; results-only scoring
+// of hand-made result files gives exactly the hand count (a perfect file 100 %, one
+// wrong id and one displaced robot the misses and false positives they are); images of
+// an unsupported encoding or truncated are skipped with a count, not a crash; bad
+// inputs exit with status 2 and a message naming the problem.
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+
+#include "soccer_vision/common/exchange_formats.h"
+
+using namespace soccer_vision;
+using nlohmann::json;
+
+namespace {
+
+const std::string kDir = ::testing::TempDir() + "/evaluate_test";
+constexpr int kFrames = 90;
+
+struct Command {
+  int status = -1;
+  std::string output;
+};
+
+Command run(const std::string& args) {
+  const std::string cmd = std::string(EVALUATE_BIN) + " " + args + " 2>&1";
+  Command r;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) r.output += buffer;
+  const int status = ::pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return json::parse(in);
+}
+
+// Results as a tracker would report the truth: visible robots only, without the flags.
+std::vector<FrameRecord> perfectResults(const std::vector<FrameRecord>& truth) {
+  std::vector<FrameRecord> out;
+  for (const FrameRecord& t : truth) {
+    FrameRecord r;
+    r.stamp = t.stamp;
+    for (RobotRecord x : t.robots) {
+      if (!x.visible.value_or(true)) continue;
+      x.visible.reset();
+      x.confidence = 1.0;
+      r.robots.push_back(x);
+    }
+    for (BallRecord b : t.balls) {
+      if (!b.visible.value_or(true)) continue;
+      b.visible.reset();
+      r.balls.push_back(b);
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::int64_t visibleRobots(const std::vector<FrameRecord>& truth) {
+  std::int64_t n = 0;
+  for (const FrameRecord& t : truth) {
+    for (const RobotRecord& r : t.robots) n += r.visible.value_or(true);
+  }
+  return n;
+}
+
+class Evaluate : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir).c_str()), 0);
+    const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+                            "/config/scenarios/uneven_drift.yaml --frames " + std::to_string(kFrames) + " --out " +
+                            kDir + "/s.bag > /dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+};
+
+}  // namespace
+
+TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
+  const Command r = run("--bag " + kDir + "/s.bag --results " + kDir + "/results.jsonl --json " + kDir +
+                    "/report.json --plots " + kDir + "/plots");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::printf("%s", r.output.c_str());
+  const json report = readJson(kDir + "/report.json");
+  EXPECT_GE(report["robots"]["detection_rate"].get<double>(), 0.999);
+  EXPECT_GE(report["robots"]["precision"].get<double>(), 0.9995);
+  EXPECT_LE(report["robots"]["position_rmse_mm"].get<double>(), 5.0);
+  EXPECT_LE(report["robots"]["heading_rmse_deg"].get<double>(), 1.0);
+  EXPECT_GE(report["ball"]["detection_rate"].get<double>(), 0.99);
+  EXPECT_EQ(report["identity_switches"].get<int>(), 0);
+  EXPECT_EQ(report["frames_processed"].get<int>(), kFrames);
+  EXPECT_EQ(report["frames_scored"].get<int>(), kFrames);
+  EXPECT_GT(report["window_frames"].get<int>(), kFrames / 2);
+  // Table II: both runs timed, windows do less work per frame than whole frames.
+  EXPECT_GT(report["table2"]["without_windows"]["classification"]["mean_ms"].get<double>(), 0.0);
+  EXPECT_EQ(readJsonLines(kDir + "/results.jsonl").size(), static_cast<std::size_t>(kFrames));
+  for (const char* png : {"trajectories", "position_error", "stage_times", "prediction_error"}) {
+    std::ifstream f(kDir + "/plots/" + png + ".png");
+    EXPECT_TRUE(f.good()) << png;
+  }
+
+  // Scoring the written results again, results-only, gives the same figures (the file
+  // keeps 0.1 mm: the RMSE agrees to a fraction of that).
+  const Command again = run("--results-only --results " + kDir + "/results.jsonl --bag " + kDir + "/s.bag --json " +
+                        kDir + "/again.json");
+  ASSERT_EQ(again.status, 0) << again.output;
+  const json a = readJson(kDir + "/again.json");
+  EXPECT_EQ(a["robots"]["matched"], report["robots"]["matched"]);
+  EXPECT_EQ(a["robots"]["false_positives"], report["robots"]["false_positives"]);
+  EXPECT_NEAR(a["robots"]["position_rmse_mm"].get<double>(), report["robots"]["position_rmse_mm"].get<double>(), 0.05);
+}
+
+TEST_F(Evaluate, FrameStepProcessesEveryNthFrame) {
+  const Command r = run("--bag " + kDir + "/s.bag --frame-step 3 --skip-table2 --json " + kDir + "/step3.json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const json report = readJson(kDir + "/step3.json");
+  EXPECT_EQ(report["frames_processed"].get<int>(), kFrames / 3);
+  EXPECT_GE(report["robots"]["detection_rate"].get<double>(), 0.99);
+}
+
+TEST_F(Evaluate, ResultsOnlyScoresExactlyTheHandCount) {
+  const std::vector<FrameRecord> truth = readJsonLines(kDir + "/truth.jsonl");
+  ASSERT_EQ(truth.size(), static_cast<std::size_t>(kFrames));
+  const std::int64_t n = visibleRobots(truth);
+  ASSERT_GT(n, 5 * kFrames);
+
+  std::vector<FrameRecord> results = perfectResults(truth);
+  writeJsonLines(kDir + "/perfect.jsonl", results);
+  Command r = run("--results-only --results " + kDir + "/perfect.jsonl --truth " + kDir + "/truth.jsonl --json " + kDir +
+              "/perfect.json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  json j = readJson(kDir + "/perfect.json");
+  EXPECT_EQ(j["robots"]["matched"].get<std::int64_t>(), n);
+  EXPECT_DOUBLE_EQ(j["robots"]["detection_rate"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(j["robots"]["precision"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(j["robots"]["position_rmse_mm"].get<double>(), 0.0);
+  EXPECT_EQ(j["failed_frames"].get<int>(), 0);
+
+  // Frame 10: the first robot gets another id (5 is free in a 5-robot team); frame 20:
+  // the second robot is 80 mm off. Hand count: two misses, two false positives, one
+  // identity error, two failed frames, two identity switches (the first robot's
+  // neighbour changed identity and back).
+  results[10].robots[0].id = 5;
+  results[20].robots[1].x += 0.080;
+  writeJsonLines(kDir + "/two_wrong.jsonl", results);
+  r = run("--results-only --results " + kDir + "/two_wrong.jsonl --truth " + kDir + "/truth.jsonl --json " + kDir +
+          "/two_wrong.json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  j = readJson(kDir + "/two_wrong.json");
+  EXPECT_EQ(j["robots"]["truth"].get<std::int64_t>(), n);
+  EXPECT_EQ(j["robots"]["matched"].get<std::int64_t>(), n - 2);
+  EXPECT_EQ(j["robots"]["false_positives"].get<std::int64_t>(), 2);
+  EXPECT_EQ(j["identity_errors"].get<int>(), 1);
+  EXPECT_EQ(j["identity_switches"].get<int>(), 2);
+  EXPECT_EQ(j["failed_frames"].get<int>(), 2);
+  EXPECT_DOUBLE_EQ(j["robots"]["detection_rate"].get<double>(), static_cast<double>(n - 2) / n);
+  EXPECT_DOUBLE_EQ(j["robots"]["precision"].get<double>(), static_cast<double>(n - 2) / n);
+  EXPECT_DOUBLE_EQ(j["ball"]["detection_rate"].get<double>(), 1.0);
+}
+
+TEST_F(Evaluate, SkipsUnreadableImagesWithACount) {
+  // The recording plus one mono16 image and one truncated bgr8 image.
+  {
+    rosbag::Bag in(kDir + "/s.bag", rosbag::bagmode::Read);
+    rosbag::Bag out(kDir + "/damaged.bag", rosbag::bagmode::Write);
+    int images = 0;
+    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+      if (auto img = m.instantiate<sensor_msgs::Image>()) {
+        ++images;
+        if (images == 30) {
+          sensor_msgs::Image mono = *img;
+          mono.encoding = "mono16";
+          out.write(m.getTopic(), m.getTime(), mono);
+          continue;
+        }
+        if (images == 40) {
+          sensor_msgs::Image cut = *img;
+          cut.data.resize(cut.data.size() / 2);
+          out.write(m.getTopic(), m.getTime(), cut);
+          continue;
+        }
+      }
+      out.write(m.getTopic(), m.getTime(), m);
+    }
+  }
+  const Command r = run("--bag " + kDir + "/damaged.bag --skip-table2 --json " + kDir + "/damaged.json");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("skipped: 1 images of unsupported encodings, 1 truncated, 0 of another size"), std::string::npos) << r.output;
+  const json j = readJson(kDir + "/damaged.json");
+  EXPECT_EQ(j["frames_processed"].get<int>(), kFrames - 2);
+  EXPECT_GE(j["robots"]["detection_rate"].get<double>(), 0.999);
+}
+
+TEST_F(Evaluate, BadInputsExitWithStatus2AndSayWhy) {
+  Command r = run("--bag " + kDir + "/missing.bag");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("missing.bag"), std::string::npos) << r.output;
+
+  std::ofstream(kDir + "/corrupt.svct") << "not a colour table";
+  r = run("--bag " + kDir + "/s.bag --colors " + kDir + "/corrupt.svct");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("corrupt.svct"), std::string::npos) << r.output;
+
+  std::ofstream(kDir + "/corrupt.jsonl") << "{\"stamp\": 1.0, \"robots\": [{\"team\": \"green\"}]}\n";
+  r = run("--results-only --results " + kDir + "/corrupt.jsonl --truth " + kDir + "/truth.jsonl");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("corrupt.jsonl"), std::string::npos) << r.output;
+
+  r = run("--results-only --results " + kDir + "/perfect.jsonl");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--truth"), std::string::npos) << r.output;
+
+  r = run("--bag " + kDir + "/s.bag --frame-step 0");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--frame-step"), std::string::npos) << r.output;
+}

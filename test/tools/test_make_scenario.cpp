@@ -1,0 +1,133 @@
+// make_scenario end to end: the bag holds every topic with equal capture stamps, and the
+// exchange files next to it agree with the bag and with the camera model.
+#include <cstdlib>
+#include <map>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "soccer_vision/BallPoseArray.h"
+#include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/common/field_geometry.h"
+
+using namespace soccer_vision;
+
+namespace {
+const std::string kDir = ::testing::TempDir() + "/make_scenario_test";
+constexpr int kFrames = 6;
+
+class MakeScenario : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir).c_str()), 0);
+    const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+                            "/config/scenarios/uneven_drift.yaml --frames " + std::to_string(kFrames) +
+                            " --width 640 --height 512 --cameras 0,1 --out " + kDir + "/s.bag";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+};
+}  // namespace
+
+TEST_F(MakeScenario, BagHasAllTopicsWithEqualStamps) {
+  rosbag::Bag bag(kDir + "/s.bag", rosbag::bagmode::Read);
+  std::map<std::string, std::vector<ros::Time>> stamps;
+  rosbag::View view(bag);
+  for (const auto& m : view) {
+    ros::Time stamp;
+    if (auto img = m.instantiate<sensor_msgs::Image>()) {
+      EXPECT_EQ(img->width, 640u);
+      EXPECT_EQ(img->height, 512u);
+      EXPECT_EQ(img->encoding, "bgr8");
+      EXPECT_EQ(img->data.size(), 640u * 512u * 3u);
+      stamp = img->header.stamp;
+    } else if (auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
+      EXPECT_EQ(info->distortion_model, "plumb_bob");
+      stamp = info->header.stamp;
+    } else if (auto robots = m.instantiate<RobotPoseArray>()) {
+      EXPECT_EQ(robots->robots.size(), 10u);
+      EXPECT_EQ(robots->header.frame_id, "field");
+      stamp = robots->header.stamp;
+    } else if (auto balls = m.instantiate<BallPoseArray>()) {
+      EXPECT_EQ(balls->balls.size(), 1u);
+      stamp = balls->header.stamp;
+    } else {
+      continue;
+    }
+    EXPECT_EQ(stamp, m.getTime()) << m.getTopic();
+    stamps[m.getTopic()].push_back(stamp);
+  }
+  for (const std::string cam : {"/camera_0", "/camera_1"}) {
+    for (const std::string topic : {"/image_raw", "/camera_info", "/ground_truth/robots", "/ground_truth/balls"}) {
+      ASSERT_EQ(stamps[cam + topic].size(), static_cast<std::size_t>(kFrames)) << cam + topic;
+      EXPECT_EQ(stamps[cam + topic], stamps["/camera_0/image_raw"]) << cam + topic;
+    }
+  }
+  // 60 fps: consecutive stamps 1/60 s apart.
+  const auto& s = stamps["/camera_0/image_raw"];
+  for (std::size_t i = 1; i < s.size(); ++i) EXPECT_NEAR((s[i] - s[i - 1]).toSec(), 1.0 / 60, 1e-6);
+}
+
+TEST_F(MakeScenario, TruthFileAgreesWithTheBag) {
+  const auto truth = readJsonLines(kDir + "/truth.jsonl");
+  ASSERT_EQ(truth.size(), static_cast<std::size_t>(kFrames));
+  rosbag::Bag bag(kDir + "/s.bag", rosbag::bagmode::Read);
+  rosbag::View view(bag, rosbag::TopicQuery("/camera_1/ground_truth/robots"));
+  std::size_t i = 0;
+  int visible = 0;
+  for (const auto& m : view) {
+    const auto robots = m.instantiate<RobotPoseArray>();
+    ASSERT_LT(i, truth.size());
+    EXPECT_NEAR(truth[i].stamp, robots->header.stamp.toSec(), 1e-6);
+    ASSERT_EQ(truth[i].robots.size(), robots->robots.size());
+    for (std::size_t k = 0; k < robots->robots.size(); ++k) {
+      EXPECT_NEAR(truth[i].robots[k].x, robots->robots[k].x, 1e-4);
+      EXPECT_NEAR(truth[i].robots[k].y, robots->robots[k].y, 1e-4);
+      ASSERT_TRUE(truth[i].robots[k].visible);
+      // Visible in the truth file means seen by at least one camera.
+      if (robots->robots[k].visible) {
+        EXPECT_TRUE(*truth[i].robots[k].visible);
+      }
+      visible += *truth[i].robots[k].visible;
+    }
+    ++i;
+  }
+  EXPECT_EQ(i, truth.size());
+  EXPECT_GE(visible, kFrames * 9);  // two cameras see (nearly) every robot
+}
+
+TEST_F(MakeScenario, SamplesAndFieldPointsMatchTheFirstFrame) {
+  const auto samples = loadColorSamples(kDir + "/samples.yaml");
+  for (auto c : {ColorClass::Blue, ColorClass::Yellow, ColorClass::Carpet, ColorClass::RobotTop}) {
+    EXPECT_TRUE(samples.count(c)) << colorClassName(c);
+  }
+  const cv::Mat first = cv::imread(kDir + "/first_frame.png");
+  ASSERT_EQ(first.cols, 640);
+  // Team-colour sample polygons lie on team-coloured pixels: blue dominates at the centre.
+  for (const auto& poly : samples.at(ColorClass::Blue)) {
+    Eigen::Vector2d c(0, 0);
+    for (const auto& p : poly) c += p / poly.size();
+    const cv::Vec3b bgr = first.at<cv::Vec3b>(static_cast<int>(std::lround(c.y())), static_cast<int>(std::lround(c.x())));
+    EXPECT_GT(bgr[0], bgr[2] + 40) << "pixel " << c.transpose();
+  }
+  const auto points = loadFieldCorrespondences(kDir + "/field_points.yaml");
+  ASSERT_GE(points.size(), 4u);
+  const auto camera = CameraModel::defaultCamera(FieldGeometry{}, 0, 640, 512);
+  for (const auto& p : points) {
+    EXPECT_LT((*camera.project(p.field) - p.pixel).norm(), 1e-6);
+  }
+  EXPECT_GE(loadFieldCorrespondences(kDir + "/field_points_camera_1.yaml").size(), 4u);
+}
+
+TEST(MakeScenarioCli, BadArgumentsFailWithStatus2) {
+  const std::string bin = MAKE_SCENARIO_BIN;
+  EXPECT_EQ(WEXITSTATUS(std::system((bin + " --frames 3 > /dev/null 2>&1").c_str())), 2);
+  EXPECT_EQ(WEXITSTATUS(std::system((bin + " --preset /nonexistent.yaml --frames 3 --out /tmp/x.bag > /dev/null 2>&1").c_str())), 2);
+  EXPECT_EQ(WEXITSTATUS(std::system((bin + " --preset x.yaml --frames 3 --out /tmp/x.bag --cameras 2 > /dev/null 2>&1").c_str())), 2);
+}

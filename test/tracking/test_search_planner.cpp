@@ -1,0 +1,119 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/tracking/search_planner.h"
+#include "soccer_vision/tracking/tracker.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+constexpr double kT0 = 1700000000.0;
+
+CameraFrameDetections robotAt(double stamp, double x, double y) {
+  CameraFrameDetections f;
+  f.stamp = stamp;
+  f.camera_id = 0;
+  RobotDetection d;
+  d.team = Team::Blue;
+  d.id = 3;
+  d.x = x;
+  d.y = y;
+  d.heading_valid = true;
+  d.confidence = 0.9;
+  f.robots.push_back(d);
+  return f;
+}
+
+bool inside(const cv::Rect& r, const Eigen::Vector2d& p) {
+  return p.x() >= r.x && p.x() < r.x + r.width && p.y() >= r.y && p.y() < r.y + r.height;
+}
+
+}  // namespace
+
+// A robot at 2 m/s seen every 1/30 s: the plan is for the next frame's stamp (the averaged
+// interval), its window holds where the robot will be then, and the entry bands follow.
+TEST(SearchPlanner, PlansTheNextFramesWindowsAtTheAveragedInterval) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  SearchPlannerParams params;
+  params.global_search.period_frames = 0;  // no periodic search in this test
+  SearchPlanner planner(params);
+  Tracker tracker;
+  const double dt = 1.0 / 30, vx = 2.0;
+  SearchPlan plan;
+  for (int k = 0; k < 12; ++k) {
+    const double stamp = kT0 + k * dt;
+    const auto report = tracker.update(robotAt(stamp, -3.0 + vx * k * dt, 0.5));
+    planner.observe(report, stamp);
+    plan = planner.plan(tracker, &camera, stamp);
+    if (k == 0) {
+      EXPECT_EQ(plan.reason, GlobalSearchReason::First);
+    }
+  }
+  EXPECT_NEAR(planner.interval(), dt, 1e-6);  // stamps near 1.7e9 s: ~0.2 us resolution
+  const double last = kT0 + 11 * dt;
+  EXPECT_NEAR(plan.stamp, last + dt, 1e-6);
+  ASSERT_FALSE(plan.global_search);
+  EXPECT_EQ(plan.reason, GlobalSearchReason::None);
+  ASSERT_EQ(plan.windows.size(), 1u);
+  const auto bands = entryBands(cv::Size(camera.width(), camera.height()), params.entry_band_px);
+  ASSERT_EQ(plan.rects.size(), 1 + bands.size());
+  EXPECT_EQ(plan.rects.front(), plan.windows.front().rect);
+  const auto next = camera.project({-3.0 + vx * 12 * dt, 0.5, params.windows.robot_height});
+  ASSERT_TRUE(next);
+  EXPECT_TRUE(inside(plan.rects.front(), *next));
+}
+
+TEST(SearchPlanner, SearchesWholeWithoutCameraModelOrWindowsAndAfterAReset) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  SearchPlanner planner;
+  Tracker tracker;
+  for (int k = 0; k < 3; ++k) {
+    const double stamp = kT0 + k / 60.0;
+    planner.observe(tracker.update(robotAt(stamp, -2.0, 0.0)), stamp);
+    EXPECT_EQ(planner.plan(tracker, &camera, stamp).global_search, k == 0) << k;  // the first: First
+  }
+  const double stamp = kT0 + 2 / 60.0;
+  const SearchPlan blind = planner.plan(tracker, nullptr, stamp);  // no camera_info yet
+  EXPECT_TRUE(blind.global_search);
+  EXPECT_TRUE(blind.rects.empty());
+
+  SearchPlannerParams off;
+  off.search_windows = false;
+  planner.setParams(off);
+  const SearchPlan whole = planner.plan(tracker, &camera, stamp);
+  EXPECT_TRUE(whole.global_search);
+  EXPECT_EQ(whole.reason, GlobalSearchReason::Periodic);
+  EXPECT_TRUE(whole.rects.empty());
+
+  planner.setParams({});
+  planner.restart();  // another camera saw the stamps jump
+  EXPECT_EQ(planner.plan(tracker, &camera, stamp).reason, GlobalSearchReason::First);
+
+  SearchPlannerParams bad;
+  bad.entry_band_px = -1;
+  EXPECT_THROW(planner.setParams(bad), std::invalid_argument);
+  EXPECT_THROW(SearchPlanner{bad}, std::invalid_argument);
+}
+
+// A frame the tracker dropped (here: an invalid stamp) says nothing about the camera's rate.
+TEST(SearchPlanner, DroppedFramesDoNotChangeTheInterval) {
+  SearchPlanner planner;
+  Tracker tracker;
+  for (int k = 0; k < 5; ++k) {
+    const double stamp = kT0 + k * 0.02;
+    planner.observe(tracker.update(robotAt(stamp, 0.0, 0.0)), stamp);
+  }
+  const double before = planner.interval();
+  const auto dropped = tracker.update(robotAt(NAN, 0.0, 0.0));
+  ASSERT_FALSE(dropped.processed());
+  planner.observe(dropped, NAN);
+  EXPECT_DOUBLE_EQ(planner.interval(), before);
+  planner.observe(tracker.update(robotAt(kT0 + 0.09, 0.0, 0.0)), kT0 + 0.09);
+  EXPECT_NEAR(planner.interval(), 0.9 * 0.02 + 0.1 * 0.01, 1e-6);  // averaged, not replaced
+  EXPECT_NEAR(before, 0.02, 1e-6);
+}

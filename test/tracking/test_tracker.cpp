@@ -1,0 +1,356 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "soccer_vision/tracking/frame_step.h"
+#include "soccer_vision/tracking/global_search_policy.h"
+#include "soccer_vision/tracking/tracker.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+constexpr double kDt = 1.0 / 60;
+constexpr double kT0 = 1700000000.0;
+
+RobotDetection robot(Team team, int id, double x, double y, double theta = 0.0) {
+  RobotDetection d;
+  d.team = team;
+  d.id = id;
+  d.x = x;
+  d.y = y;
+  d.theta = theta;
+  d.heading_valid = id >= 0;
+  d.confidence = 0.9;
+  return d;
+}
+
+BallDetection ball(double x, double y, double confidence = 0.8) {
+  BallDetection b;
+  b.x = x;
+  b.y = y;
+  b.confidence = confidence;
+  return b;
+}
+
+CameraFrameDetections frame(double stamp, int camera, std::vector<RobotDetection> robots,
+                            std::vector<BallDetection> balls = {}) {
+  CameraFrameDetections f;
+  f.stamp = stamp;
+  f.camera_id = camera;
+  f.robots = std::move(robots);
+  f.balls = std::move(balls);
+  return f;
+}
+
+const TrackedRobot* find(const TrackerOutput& out, Team team, int id) {
+  for (const auto& r : out.robots) {
+    if (r.team == team && r.id == id) return &r;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- timeline
+
+TEST(TrackerTimeline, OrdersFusesDropsAndResets) {
+  TrackerTimeline t;
+  EXPECT_EQ(t.accept(10.0, 0).event, TimeEvent::Start);
+  auto d = t.accept(10.0 + kDt, 0);
+  EXPECT_EQ(d.event, TimeEvent::InOrder);
+  EXPECT_NEAR(d.dt, kDt, 1e-12);
+  d = t.accept(10.0 + kDt - 0.005, 1);  // the other camera, 5 ms behind
+  EXPECT_EQ(d.event, TimeEvent::SameTime);
+  EXPECT_NEAR(d.lag, 0.005, 1e-12);
+  EXPECT_NEAR(t.now(), 10.0 + kDt, 1e-12);  // never moved back
+  EXPECT_EQ(t.accept(10.0 + kDt - 0.05, 2).event, TimeEvent::Late);  // a camera 50 ms behind: dropped
+  EXPECT_EQ(t.resets(), 0);
+  EXPECT_EQ(t.accept(10.0, 0).action, TimeAction::Reset);  // camera 0 went back: looped
+  EXPECT_EQ(t.resets(), 1);
+  EXPECT_EQ(t.accept(12.0, 0).event, TimeEvent::ForwardJump);
+  EXPECT_EQ(t.resets(), 2);
+  EXPECT_EQ(t.accept(NAN, 0).event, TimeEvent::InvalidStamp);
+  EXPECT_NEAR(t.now(), 12.0, 1e-12);
+}
+
+TEST(TrackerTimeline, LoopedTwoCameraBagResetsOnce) {
+  TrackerTimeline t;
+  for (int k = 0; k < 100; ++k) {
+    t.accept(kT0 + k * kDt, 0);
+    t.accept(kT0 + k * kDt, 1);
+  }
+  // The bag loops: camera 0's first frame of the new loop arrives before camera 1's last
+  // frames of the old one.
+  EXPECT_EQ(t.accept(kT0, 0).event, TimeEvent::BackwardJump);
+  EXPECT_EQ(t.accept(kT0 + 99 * kDt, 1).event, TimeEvent::Stale);
+  EXPECT_EQ(t.accept(kT0 + kDt, 0).event, TimeEvent::InOrder);
+  EXPECT_EQ(t.accept(kT0, 1).event, TimeEvent::SameTime);  // camera 1 joins the new loop
+  EXPECT_EQ(t.accept(kT0 + kDt, 1).event, TimeEvent::SameTime);
+  EXPECT_EQ(t.accept(kT0 + 2 * kDt, 1).event, TimeEvent::InOrder);
+  EXPECT_EQ(t.resets(), 1);
+}
+
+// ---------------------------------------------------------------- tracker
+
+TEST(Tracker, BackwardAndForwardJumpsResetCleanly) {
+  Tracker tracker;
+  for (int k = 0; k < 30; ++k) {
+    const double x = 1.0 + 2.0 * k * kDt;
+    tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 1, x, 0.0), robot(Team::Yellow, 2, -1, -1)},
+                         {ball(0.3, 0.2)}));
+  }
+  ASSERT_EQ(tracker.numRobotTracks(), 2u);
+  const auto before = tracker.output();
+  ASSERT_NE(before.primaryBall(), nullptr);
+  EXPECT_NEAR(find(before, Team::Blue, 1)->vx, 2.0, 0.05);
+
+  // Looped bag: back to the first stamp, only blue 3 in view.
+  auto report = tracker.update(frame(kT0, 0, {robot(Team::Blue, 3, -2.0, 1.0)}));
+  EXPECT_TRUE(report.reset());
+  EXPECT_EQ(report.time.event, TimeEvent::BackwardJump);
+  auto out = tracker.output();
+  ASSERT_EQ(out.robots.size(), 1u);  // the old tracks are gone, nothing carried over
+  EXPECT_EQ(out.robots[0].id, 3);
+  EXPECT_DOUBLE_EQ(out.robots[0].x, -2.0);
+  EXPECT_DOUBLE_EQ(out.robots[0].vx, 0.0);
+  EXPECT_TRUE(out.balls.empty());
+  EXPECT_DOUBLE_EQ(tracker.time(), kT0);
+
+  // Large forward jump (5 s): reset again, the new frame's robot starts fresh.
+  report = tracker.update(frame(kT0 + 5.0, 0, {robot(Team::Blue, 3, 2.0, 1.0)}));
+  EXPECT_EQ(report.time.event, TimeEvent::ForwardJump);
+  out = tracker.output();
+  ASSERT_EQ(out.robots.size(), 1u);
+  EXPECT_DOUBLE_EQ(out.robots[0].x, 2.0);
+  EXPECT_DOUBLE_EQ(out.robots[0].vx, 0.0);  // not the 0.8 m/s a jump would suggest
+  EXPECT_EQ(tracker.stats().resets, 2);
+}
+
+TEST(Tracker, TwoCamerasInTheOverlapGiveOneTrack) {
+  Tracker tracker;
+  // Robots and ball in the overlap (|x| < 0.3 m), seen by both cameras with a 1 cm
+  // calibration mismatch; team-only robots too.
+  for (int k = 0; k < 120; ++k) {
+    const double t = kT0 + k * kDt, y = -1.0 + 1.0 * k * kDt;
+    for (int cam = 0; cam < 2; ++cam) {
+      const double bias = cam == 0 ? -0.005 : 0.005;
+      tracker.update(frame(t, cam,
+                           {robot(Team::Blue, 4, 0.1 + bias, y, 1.0), robot(Team::Yellow, -1, -0.1 + bias, -y),
+                            robot(Team::Yellow, -1, 0.2 + bias, 0.5)},
+                           {ball(0.0 + bias, y + 0.3)}));
+    }
+  }
+  const auto out = tracker.output();
+  EXPECT_EQ(out.robots.size(), 3u);
+  EXPECT_EQ(out.balls.size(), 1u);
+  EXPECT_EQ(tracker.stats().tracks_created, 4);
+  EXPECT_EQ(tracker.stats().robot_outliers, 0);
+  const auto* blue = find(out, Team::Blue, 4);
+  ASSERT_NE(blue, nullptr);
+  EXPECT_NEAR(blue->x, 0.1, 0.002);  // the average of both cameras
+  EXPECT_NEAR(blue->vy, 1.0, 0.05);
+  EXPECT_EQ(blue->camera_id, 1);     // the last measurement came from camera 1
+  EXPECT_TRUE(blue->visible);
+}
+
+TEST(Tracker, CamerasAFewMillisecondsApartAreFusedWithoutLag) {
+  // Camera 1 captures 6 ms before camera 0 but its frames are processed after camera 0's:
+  // its positions are moved forward by the velocity, so fusing them adds no lag error.
+  Tracker tracker;
+  const double v = 3.0, skew = 0.006;
+  double worst = 0;
+  for (int k = 0; k < 120; ++k) {
+    const double t0 = kT0 + k * kDt, t1 = t0 - skew;
+    tracker.update(frame(t0, 0, {robot(Team::Blue, 0, -0.2 + v * (t0 - kT0), 0.0)}));
+    const auto r1 = tracker.update(frame(t1, 1, {robot(Team::Blue, 0, -0.2 + v * (t1 - kT0), 0.0)}));
+    ASSERT_TRUE(r1.processed());
+    if (k > 30) {
+      EXPECT_EQ(r1.time.event, TimeEvent::SameTime);
+      const auto out = tracker.output(t0);
+      const auto* r = find(out, Team::Blue, 0);
+      ASSERT_NE(r, nullptr);
+      worst = std::max(worst, std::abs(r->x - (-0.2 + v * (t0 - kT0))));
+    }
+  }
+  EXPECT_LT(worst, 0.002);  // uncompensated fusion would be ~ v * skew / 2 = 9 mm off
+  EXPECT_EQ(tracker.stats().dropped_frames, 0);
+  EXPECT_EQ(tracker.stats().robot_outliers, 0);
+}
+
+TEST(Tracker, LostTargetIsDroppedAfterTheConfiguredTime) {
+  TrackerParams p;
+  p.robot_lost_timeout = 0.3;
+  p.ball_lost_timeout = 0.2;
+  Tracker tracker(p);
+  for (int k = 0; k < 10; ++k) {
+    tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0), robot(Team::Blue, 1, 1, 0)},
+                         {ball(0.5, 0.5)}));
+  }
+  const double last = kT0 + 9 * kDt;
+  // Blue 1 and the ball vanish; blue 0 stays.
+  int k = 10;
+  for (; kT0 + k * kDt - last <= 0.19; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
+  auto out = tracker.output();
+  EXPECT_EQ(out.robots.size(), 2u);
+  EXPECT_EQ(out.balls.size(), 1u);
+  EXPECT_FALSE(find(out, Team::Blue, 1)->visible);
+  EXPECT_LT(find(out, Team::Blue, 1)->confidence, 0.9 * 0.5);  // fading
+  for (; kT0 + k * kDt - last <= 0.29; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
+  out = tracker.output();
+  EXPECT_EQ(out.robots.size(), 2u);  // 0.29 s: still there (predicted)
+  EXPECT_TRUE(out.balls.empty());    // the ball's 0.2 s are over
+  for (; kT0 + k * kDt - last <= 0.32; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
+  out = tracker.output();
+  ASSERT_EQ(out.robots.size(), 1u);
+  EXPECT_EQ(out.robots[0].id, 0);
+  EXPECT_EQ(tracker.stats().tracks_lost, 2);
+}
+
+TEST(Tracker, BallKickIsTrackedWithoutLosingTheTrack) {
+  Tracker tracker;
+  for (int k = 0; k < 60; ++k) tracker.update(frame(kT0 + k * kDt, 0, {}, {ball(1.0, 0.0)}));
+  const auto before = tracker.output();
+  ASSERT_NE(before.primaryBall(), nullptr);
+  const int id = before.primaryBall()->track_id;
+  const Eigen::Vector2d v(-12.0, 5.0);
+  int kicks = 0;
+  for (int k = 1; k <= 15; ++k) {
+    const Eigen::Vector2d p = Eigen::Vector2d(1.0, 0.0) + v * k * kDt;
+    // A stray orange blob far away competes as a second candidate.
+    const auto report = tracker.update(frame(kT0 + (59 + k) * kDt, 0, {}, {ball(p.x(), p.y()), ball(-3.0, 2.0, 0.9)}));
+    kicks += report.ball_kicks;
+    const auto out = tracker.output();
+    const auto* b = out.primaryBall();
+    ASSERT_NE(b, nullptr);
+    EXPECT_EQ(b->track_id, id) << "frame " << k;
+    EXPECT_TRUE(b->visible);
+    if (k >= 3) {
+      EXPECT_LT(std::hypot(b->x - p.x(), b->y - p.y()), 0.01) << "frame " << k;
+      EXPECT_LT(std::hypot(b->vx - v.x(), b->vy - v.y()), 1.0) << "frame " << k;
+    }
+  }
+  EXPECT_GE(kicks, 1);
+  EXPECT_EQ(tracker.output().balls.size(), 2u);  // the stray blob is an alternative, not the ball
+}
+
+TEST(Tracker, BallFallsBackToTheBestCandidateWithoutATrack) {
+  Tracker tracker;
+  tracker.update(frame(kT0, 0, {}, {ball(2.0, 1.0, 0.9), ball(-1.0, 0.0, 0.4)}));
+  const auto out = tracker.output();
+  ASSERT_NE(out.primaryBall(), nullptr);
+  EXPECT_DOUBLE_EQ(out.primaryBall()->x, 2.0);
+  EXPECT_EQ(out.balls.size(), 2u);
+}
+
+TEST(Tracker, TeamOnlyRobotsPassingCloseKeepTheirTracks) {
+  Tracker tracker;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  int id_a = -1, id_b = -1;
+  for (int k = 0; k < 120; ++k) {
+    const double t = k * kDt;
+    // Two robots of one team pass each other 0.19 m apart at 2 m/s each.
+    const double xa = -1.0 + 2.0 * t, xb = 1.0 - 2.0 * t;
+    tracker.update(frame(kT0 + t, 0, {robot(Team::Blue, -1, xb + noise(rng), 0.095 + noise(rng)),
+                                      robot(Team::Blue, -1, xa + noise(rng), -0.095 + noise(rng))}));
+    const auto out = tracker.output();
+    ASSERT_EQ(out.robots.size(), 2u) << "frame " << k;
+    for (const auto& r : out.robots) {
+      if (std::abs(r.y - (-0.095)) < 0.05) {
+        if (id_a < 0) id_a = r.track_id;
+        EXPECT_EQ(r.track_id, id_a) << "frame " << k;
+        EXPECT_NEAR(r.x, xa, 0.01);
+      } else {
+        if (id_b < 0) id_b = r.track_id;
+        EXPECT_EQ(r.track_id, id_b) << "frame " << k;
+        EXPECT_NEAR(r.x, xb, 0.01);
+      }
+    }
+  }
+  EXPECT_NE(id_a, id_b);
+  EXPECT_EQ(tracker.stats().tracks_created, 2);
+}
+
+TEST(Tracker, BadDetectionsAreCountedNotTracked) {
+  Tracker tracker;
+  auto f = frame(kT0, 0, {robot(Team::Blue, 0, NAN, 0), robot(Team::Blue, 1, 1, 1), robot(Team::Blue, 1, 1.02, 1)},
+                 {ball(INFINITY, 0)});
+  const auto report = tracker.update(f);
+  EXPECT_EQ(report.invalid_detections, 2);
+  EXPECT_EQ(report.duplicate_detections, 1);
+  EXPECT_EQ(tracker.numRobotTracks(), 1u);
+  EXPECT_EQ(tracker.numBallTracks(), 0u);
+  EXPECT_FALSE(tracker.update(frame(NAN, 0, {robot(Team::Blue, 2, 0, 0)})).processed());
+  TrackerParams bad;
+  bad.robot_lost_timeout = -1;
+  EXPECT_THROW(Tracker{bad}, std::invalid_argument);
+}
+
+// ---------------------------------------------------------------- search policy, frame_step
+
+TEST(GlobalSearchPolicy, FiresFirstPeriodicallyOnMissingTargetsNoTracksAndAfterReset) {
+  GlobalSearchPolicy policy({10});
+  auto windowFor = [](int track_id, bool expected) {
+    SearchWindow w;
+    w.track_id = track_id;
+    w.expected = expected;
+    return std::vector<SearchWindow>{w};
+  };
+  TrackerUpdateReport seen;  // a processed frame that measured track 7
+  seen.measured_track_ids = {7};
+  EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::First);
+  for (int k = 1; k < 10; ++k) {
+    policy.observe(seen);
+    EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::None) << k;
+  }
+  policy.observe(seen);
+  EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::Periodic);  // 10th frame
+  policy.observe(seen);
+  EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::None);
+  TrackerUpdateReport missed;  // track 7 expected, not measured
+  policy.observe(missed);
+  EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::TargetMissing);
+  ASSERT_EQ(policy.missing().size(), 0u);  // consumed by the decision
+  policy.observe(missed);  // missed by that whole-frame search: its window comes first
+  EXPECT_TRUE(policy.missing().empty());
+  EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::None);
+  policy.observe(missed);  // and missed there too: the whole frame again
+  EXPECT_EQ(policy.decide(windowFor(7, false), 1), GlobalSearchReason::TargetMissing);
+  policy.observe(missed);  // (whole frame: ignored)
+  EXPECT_EQ(policy.decide(windowFor(7, false), 1), GlobalSearchReason::None);
+  policy.observe(missed);  // 7 was not expected in this camera: missing it is fine
+  EXPECT_EQ(policy.decide(windowFor(7, false), 1), GlobalSearchReason::None);
+  policy.observe(missed);
+  EXPECT_EQ(policy.decide({}, 0), GlobalSearchReason::NoTracks);
+  TrackerUpdateReport reset;
+  reset.time.action = TimeAction::Reset;
+  policy.observe(reset);
+  EXPECT_EQ(policy.decide(windowFor(9, true), 1), GlobalSearchReason::AfterReset);
+  TrackerUpdateReport dropped;  // a late frame says nothing
+  dropped.time.action = TimeAction::Drop;
+  policy.observe(dropped);
+  EXPECT_EQ(policy.decide(windowFor(9, true), 1), GlobalSearchReason::None);
+  EXPECT_EQ(policy.count(GlobalSearchReason::TargetMissing), 2);
+  EXPECT_THROW(GlobalSearchPolicy({-1}), std::invalid_argument);
+}
+
+TEST(FrameStep, ProcessesEveryNthFrame) {
+  FrameStep every4(4);
+  std::vector<int> taken;
+  for (int k = 0; k < 12; ++k) {
+    if (every4.process()) taken.push_back(k);
+  }
+  EXPECT_EQ(taken, (std::vector<int>{0, 4, 8}));
+  EXPECT_EQ(every4.seen(), 12);
+  EXPECT_EQ(every4.processed(), 3);
+  every4.process();  // frame 12 processed; 13 skipped
+  every4.process();
+  every4.restart();
+  EXPECT_TRUE(every4.process());
+  FrameStep all;
+  for (int k = 0; k < 5; ++k) EXPECT_TRUE(all.process());
+  EXPECT_THROW(FrameStep(0), std::invalid_argument);
+  EXPECT_THROW(all.setStep(-2), std::invalid_argument);
+}
