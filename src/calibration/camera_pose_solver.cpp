@@ -11,9 +11,7 @@
 namespace soccer_vision {
 namespace {
 
-bool finite(const FieldCorrespondence& c) {
-  return c.pixel.allFinite() && c.field.allFinite();
-}
+bool finite(const FieldCorrespondence& c) { return c.pixel.allFinite() && c.field.allFinite(); }
 
 // Singular values of a centred point cloud: [0] largest spread, [1] second (0 for points
 // on a line), [2] out-of-plane (0 for coplanar points); as RMS distances.
@@ -66,8 +64,8 @@ Eigen::VectorXd residuals(const CameraIntrinsics& k, const WorldToCamera& pose,
 // Levenberg-Marquardt over a left-multiplied rotation increment and the translation,
 // numerical Jacobian (central differences; the cost is cheap and the point count small).
 WorldToCamera refine(const CameraIntrinsics& k, WorldToCamera pose,
-                     const std::vector<FieldCorrespondence>& pts,
-                     const CameraPoseSolverParams& params, int& iterations) {
+                     const std::vector<FieldCorrespondence>& pts, const CameraPoseSolverParams& params,
+                     int& iterations) {
   auto apply = [](const WorldToCamera& p, const Eigen::Matrix<double, 6, 1>& d) {
     WorldToCamera q;
     q.R = rodrigues(d.head<3>()) * p.R;
@@ -133,7 +131,8 @@ std::vector<double> reprojectionErrors(const CameraModel& camera,
 CameraPoseSolution solveCameraPose(const CameraIntrinsics& k, const std::vector<FieldCorrespondence>& pts,
                                    const CameraPoseSolverParams& params) {
   if (pts.size() < 4) {
-    throw std::invalid_argument("camera pose: need at least 4 correspondences, got " + std::to_string(pts.size()));
+    throw std::invalid_argument("camera pose: need at least 4 correspondences, got " +
+                                std::to_string(pts.size()));
   }
   if (!(k.fx > 0 && k.fy > 0) || !std::isfinite(k.cx) || !std::isfinite(k.cy)) {
     throw std::invalid_argument("camera pose: intrinsics have no valid focal length / principal point");
@@ -145,20 +144,23 @@ CameraPoseSolution solveCameraPose(const CameraIntrinsics& k, const std::vector<
   std::vector<Eigen::Vector2d> pixels;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!finite(pts[i])) {
-      throw std::invalid_argument("camera pose: correspondence " + std::to_string(i) + " has a non-finite value");
+      throw std::invalid_argument("camera pose: correspondence " + std::to_string(i) +
+                                  " has a non-finite value");
     }
     field.push_back(pts[i].field);
     pixels.push_back(pts[i].pixel);
   }
   const Eigen::Vector3d s3 = spread<3>(field);
   if (s3[1] < params.min_spread) {
-    throw std::invalid_argument("camera pose: the field points are (nearly) collinear or coincide (spread across "
-                                "their line " + std::to_string(s3[1]) + " m)");
+    throw std::invalid_argument(
+        "camera pose: the field points are (nearly) collinear or coincide (spread across "
+        "their line " +
+        std::to_string(s3[1]) + " m)");
   }
   const Eigen::Vector2d s2 = spread<2>(pixels);
   if (s2[1] < params.min_pixel_spread) {
-    throw std::invalid_argument("camera pose: the pixels are (nearly) collinear (spread " + std::to_string(s2[1]) +
-                                " px): the camera lies in the plane of the points");
+    throw std::invalid_argument("camera pose: the pixels are (nearly) collinear (spread " +
+                                std::to_string(s2[1]) + " px): the camera lies in the plane of the points");
   }
   const bool coplanar = s3[2] < 1e-6 * std::max(1.0, s3[0]);
 
@@ -168,7 +170,8 @@ CameraPoseSolution solveCameraPose(const CameraIntrinsics& k, const std::vector<
   std::vector<cv::Point2d> image;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     object.emplace_back(field[i].x(), field[i].y(), field[i].z());
-    const Eigen::Vector2d n = lens.undistortNormalized({(pixels[i].x() - k.cx) / k.fx, (pixels[i].y() - k.cy) / k.fy});
+    const Eigen::Vector2d n =
+        lens.undistortNormalized({(pixels[i].x() - k.cx) / k.fx, (pixels[i].y() - k.cy) / k.fy});
     image.emplace_back(n.x(), n.y());
   }
   std::vector<cv::Mat> rvecs, tvecs;

@@ -26,7 +26,6 @@ cv::Mat classifiedColors(const cv::Mat& image, PixelLayout layout) {
   return bgr;
 }
 
-
 ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, const ColorTableParams& params,
                                CalibrationLight light) {
   if (images.empty()) throw std::invalid_argument("colour calibration needs at least one image");
@@ -55,14 +54,15 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         const cv::Vec3b c = image.bgr.at<cv::Vec3b>(p);
         const int v = std::max({c[0], c[1], c[2]});
         const int gain = normalized ? adjustment.gains.at<std::uint16_t>(p.y / BlockOffsets::kBlockSize,
-                                                                          p.x / BlockOffsets::kBlockSize)
+                                                                         p.x / BlockOffsets::kBlockSize)
                                     : ColorTable::kUnitGain;
         all.push_back({c, static_cast<std::uint8_t>(ColorTable::adjustedV(v, 0, gain))});
       }
     }
   }
   // Polygons outside the image or smaller than a pixel leave a class with no pixel.
-  for (auto it = pixels.begin(); it != pixels.end();) it = it->second.empty() ? pixels.erase(it) : std::next(it);
+  for (auto it = pixels.begin(); it != pixels.end();)
+    it = it->second.empty() ? pixels.erase(it) : std::next(it);
   if (pixels.empty()) throw std::invalid_argument("the sample polygons select no pixel");
   return ColorTable::buildFromSamplePixels(pixels, params)
       .withIlluminationReference(reference.reference())

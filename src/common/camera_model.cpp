@@ -29,10 +29,10 @@ CameraModel CameraModel::defaultCamera(const FieldGeometry& field, int index, in
   down.col(0) = Eigen::Vector3d::UnitY();
   down.col(1) = Eigen::Vector3d::UnitX();
   down.col(2) = -Eigen::Vector3d::UnitZ();
-  const Eigen::Matrix3d mount =
-      (Eigen::AngleAxisd(side * 0.015, Eigen::Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(0.010, Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(-side * 0.008, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Matrix3d mount = (Eigen::AngleAxisd(side * 0.015, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::AngleAxisd(0.010, Eigen::Vector3d::UnitY()) *
+                                 Eigen::AngleAxisd(-side * 0.008, Eigen::Vector3d::UnitX()))
+                                    .toRotationMatrix();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = mount * down;
   pose.translation() = Eigen::Vector3d(centre_x + side * 0.01, 0.02, 4.0);
@@ -98,13 +98,11 @@ std::optional<Eigen::Vector2d> CameraModel::project(const Eigen::Vector3d& p_fie
 }
 
 Eigen::Vector3d CameraModel::pixelRay(const Eigen::Vector2d& pixel) const {
-  const Eigen::Vector2d xy = undistortNormalized(
-      {(pixel.x() - k_.cx) / k_.fx, (pixel.y() - k_.cy) / k_.fy});
+  const Eigen::Vector2d xy = undistortNormalized({(pixel.x() - k_.cx) / k_.fx, (pixel.y() - k_.cy) / k_.fy});
   return (field_T_camera_.linear() * Eigen::Vector3d(xy.x(), xy.y(), 1.0)).normalized();
 }
 
-std::optional<Eigen::Vector3d> CameraModel::pixelToField(const Eigen::Vector2d& pixel,
-                                                         double plane_z) const {
+std::optional<Eigen::Vector3d> CameraModel::pixelToField(const Eigen::Vector2d& pixel, double plane_z) const {
   const Eigen::Vector3d ray = pixelRay(pixel);
   const Eigen::Vector3d c = cameraCentre();
   if (std::abs(ray.z()) < 1e-12) return std::nullopt;
@@ -114,8 +112,8 @@ std::optional<Eigen::Vector3d> CameraModel::pixelToField(const Eigen::Vector2d& 
 }
 
 bool CameraModel::inImage(const Eigen::Vector2d& pixel, double margin) const {
-  return pixel.x() >= -0.5 + margin && pixel.y() >= -0.5 + margin &&
-         pixel.x() <= k_.width - 0.5 - margin && pixel.y() <= k_.height - 0.5 - margin;
+  return pixel.x() >= -0.5 + margin && pixel.y() >= -0.5 + margin && pixel.x() <= k_.width - 0.5 - margin &&
+         pixel.y() <= k_.height - 0.5 - margin;
 }
 
 }  // namespace soccer_vision

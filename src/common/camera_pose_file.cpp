@@ -77,7 +77,8 @@ CameraPoseFile parseCameraPoseFile(const std::string& yaml_text, const std::stri
   }
   const YAML::Node t = mapAt(root, "translation", source);
   const YAML::Node r = mapAt(root, "rotation", source);
-  const Eigen::Vector3d translation(number(t, "x", "translation.", source), number(t, "y", "translation.", source),
+  const Eigen::Vector3d translation(number(t, "x", "translation.", source),
+                                    number(t, "y", "translation.", source),
                                     number(t, "z", "translation.", source));
   Eigen::Quaterniond q(number(r, "w", "rotation.", source), number(r, "x", "rotation.", source),
                        number(r, "y", "rotation.", source), number(r, "z", "rotation.", source));
@@ -115,10 +116,12 @@ void checkIntrinsicsMatch(const CameraPoseFile& pose, const CameraIntrinsics& k,
   const auto& s = pose.intrinsics;
   if (s.width != k.width || s.height != k.height) {
     fail(source, "solved for a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                     " camera, but the camera is " + std::to_string(k.width) + "x" + std::to_string(k.height));
+                     " camera, but the camera is " + std::to_string(k.width) + "x" +
+                     std::to_string(k.height));
   }
   auto off = [&](double a, double b, double scale) { return std::abs(a - b) > tolerance * scale; };
-  if (off(s.fx, k.fx, k.fx) || off(s.fy, k.fy, k.fy) || off(s.cx, k.cx, k.width) || off(s.cy, k.cy, k.height)) {
+  if (off(s.fx, k.fx, k.fx) || off(s.fy, k.fy, k.fy) || off(s.cx, k.cx, k.width) ||
+      off(s.cy, k.cy, k.height)) {
     std::ostringstream m;
     m << "solved with other intrinsics (fx " << s.fx << " fy " << s.fy << " cx " << s.cx << " cy " << s.cy
       << ", camera has fx " << k.fx << " fy " << k.fy << " cx " << k.cx << " cy " << k.cy

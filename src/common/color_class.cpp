@@ -3,8 +3,8 @@
 namespace soccer_vision {
 namespace {
 constexpr std::array<std::string_view, kNumColorClasses> kNames = {
-    "none",  "blue",  "yellow", "pink",   "purple", "sky_blue",
-    "green", "red",   "orange", "carpet", "line",   "robot_top"};
+    "none",  "blue", "yellow", "pink",   "purple", "sky_blue",
+    "green", "red",  "orange", "carpet", "line",   "robot_top"};
 }  // namespace
 
 std::string_view colorClassName(ColorClass c) {

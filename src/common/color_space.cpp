@@ -9,9 +9,8 @@ namespace {
 
 // sRGB primaries -> XYZ and the D65 white point, with OpenCV's digits so that Lab values
 // agree with cvtColor (the reference other tools and users compare with).
-constexpr double kRgbToXyz[3][3] = {{0.412453, 0.357580, 0.180423},
-                                    {0.212671, 0.715160, 0.072169},
-                                    {0.019334, 0.119193, 0.950227}};
+constexpr double kRgbToXyz[3][3] = {
+    {0.412453, 0.357580, 0.180423}, {0.212671, 0.715160, 0.072169}, {0.019334, 0.119193, 0.950227}};
 constexpr double kWhite[3] = {0.950456, 1.0, 1.088754};
 // CIE's linear segment near black (OpenCV's constants).
 constexpr double kLabEpsilon = 0.008856;

@@ -56,8 +56,11 @@ std::string toJsonLine(const FrameRecord& frame) {
   j["stamp"] = rounded(frame.stamp, 6);
   j["robots"] = json::array();
   for (const auto& r : frame.robots) {
-    json o = {{"team", std::string(teamName(r.team))}, {"id", r.id}, {"x", rounded(r.x, 4)},
-              {"y", rounded(r.y, 4)}, {"theta", rounded(r.theta, 4)}};
+    json o = {{"team", std::string(teamName(r.team))},
+              {"id", r.id},
+              {"x", rounded(r.x, 4)},
+              {"y", rounded(r.y, 4)},
+              {"theta", rounded(r.theta, 4)}};
     addOptional(o, r);
     j["robots"].push_back(o);
   }
@@ -165,16 +168,14 @@ ColorSamples parseColorSamples(const std::string& yaml_text, const std::string& 
   return samples;
 }
 
-ColorSamples loadColorSamples(const std::string& path) {
-  return parseColorSamples(readTextFile(path), path);
-}
+ColorSamples loadColorSamples(const std::string& path) { return parseColorSamples(readTextFile(path), path); }
 
 std::string toYaml(const std::vector<FieldCorrespondence>& points) {
   std::ostringstream out;
   out << std::setprecision(10) << "points:\n";
   for (const auto& p : points) {
-    out << "  - {pixel: [" << p.pixel.x() << ", " << p.pixel.y() << "], field: [" << p.field.x()
-        << ", " << p.field.y() << ", " << p.field.z() << "]}\n";
+    out << "  - {pixel: [" << p.pixel.x() << ", " << p.pixel.y() << "], field: [" << p.field.x() << ", "
+        << p.field.y() << ", " << p.field.z() << "]}\n";
   }
   return out.str();
 }

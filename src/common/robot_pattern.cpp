@@ -90,8 +90,8 @@ PatternSet PatternSet::twoTag() {
   p.team_marker.size_x = 0.030;
   p.team_marker.size_y = 0.080;
   p.slots = {disc(0.045, 0.0, 0.020)};  // role disc 40 mm, 45 mm ahead
-  for (ColorClass c : {ColorClass::Pink, ColorClass::Purple, ColorClass::SkyBlue,
-                       ColorClass::Green, ColorClass::Red}) {
+  for (ColorClass c :
+       {ColorClass::Pink, ColorClass::Purple, ColorClass::SkyBlue, ColorClass::Green, ColorClass::Red}) {
     p.ids.push_back({c});
   }
   return p;
@@ -102,8 +102,8 @@ PatternSet PatternSet::ssl() {
   p.name = "ssl";
   p.team_marker = disc(0.0, 0.0, 0.025);
   // Front right, front left, back left, back right; 4-bit id, front right most significant.
-  p.slots = {polarDisc(-60, 0.065, 0.020), polarDisc(60, 0.065, 0.020),
-             polarDisc(135, 0.065, 0.020), polarDisc(-135, 0.065, 0.020)};
+  p.slots = {polarDisc(-60, 0.065, 0.020), polarDisc(60, 0.065, 0.020), polarDisc(135, 0.065, 0.020),
+             polarDisc(-135, 0.065, 0.020)};
   for (int id = 0; id < 16; ++id) {
     std::vector<ColorClass> row;
     for (int bit = 3; bit >= 0; --bit) {
@@ -165,9 +165,7 @@ PatternSet parsePatternSet(const std::string& yaml_text, const std::string& sour
   return p;
 }
 
-PatternSet loadPatternSet(const std::string& path) {
-  return parsePatternSet(readTextFile(path), path);
-}
+PatternSet loadPatternSet(const std::string& path) { return parsePatternSet(readTextFile(path), path); }
 
 PatternSet patternSetByName(const std::string& name_or_path) {
   if (name_or_path == "two_tag") return PatternSet::twoTag();

@@ -17,7 +17,8 @@ std::vector<double> finiteValues(const std::vector<double>& values) {
 }
 
 double percentile(const std::vector<double>& values, double p) {
-  if (!(p >= 0 && p <= 100)) throw std::invalid_argument("percentile: p must be in [0, 100] (got " + std::to_string(p) + ")");
+  if (!(p >= 0 && p <= 100))
+    throw std::invalid_argument("percentile: p must be in [0, 100] (got " + std::to_string(p) + ")");
   std::vector<double> v = finiteValues(values);
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   std::sort(v.begin(), v.end());

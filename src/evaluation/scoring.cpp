@@ -52,7 +52,9 @@ Score scoreFrame(const FrameRecord& truth, const FrameRecord& result, const Scor
   Score s;
   s.frames = 1;
   const double gate2 = params.max_distance * params.max_distance;
-  auto d2 = [](double ax, double ay, double bx, double by) { return (ax - bx) * (ax - bx) + (ay - by) * (ay - by); };
+  auto d2 = [](double ax, double ay, double bx, double by) {
+    return (ax - bx) * (ax - bx) + (ay - by) * (ay - by);
+  };
 
   std::vector<bool> taken(truth.robots.size(), false);
   for (const RobotRecord& t : truth.robots) s.truth_robots += t.visible.value_or(true);

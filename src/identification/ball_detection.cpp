@@ -7,7 +7,8 @@
 
 namespace soccer_vision {
 
-BallDetector::BallDetector(const CameraModel& camera, const FieldGeometry& field, const BallDetectionParams& params)
+BallDetector::BallDetector(const CameraModel& camera, const FieldGeometry& field,
+                           const BallDetectionParams& params)
     : camera_(camera), field_(field), params_(params) {}
 
 std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regions,
@@ -68,7 +69,8 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     b.area_px = area;
     if (b.confidence >= params_.min_confidence) out.push_back(b);
   }
-  std::sort(out.begin(), out.end(), [](const BallDetection& a, const BallDetection& b) { return a.confidence > b.confidence; });
+  std::sort(out.begin(), out.end(),
+            [](const BallDetection& a, const BallDetection& b) { return a.confidence > b.confidence; });
   if (params_.max_candidates > 0 && static_cast<int>(out.size()) > params_.max_candidates) {
     out.resize(params_.max_candidates);
   }

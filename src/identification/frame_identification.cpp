@@ -2,8 +2,8 @@
 
 namespace soccer_vision {
 
-FrameIdentifier::FrameIdentifier(const CameraModel& camera, const PatternSet& patterns, const FieldGeometry& field,
-                                 const IdentificationParams& params)
+FrameIdentifier::FrameIdentifier(const CameraModel& camera, const PatternSet& patterns,
+                                 const FieldGeometry& field, const IdentificationParams& params)
     : params_(params), robots_(camera, patterns, params.robots), balls_(camera, field, params.balls) {}
 
 void FrameIdentifier::setParams(const IdentificationParams& params) {
@@ -12,8 +12,8 @@ void FrameIdentifier::setParams(const IdentificationParams& params) {
   balls_.setParams(params.balls);
 }
 
-CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp, int camera_id,
-                                                bool global_search, bool mosaic) const {
+CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp,
+                                                int camera_id, bool global_search, bool mosaic) const {
   CameraFrameDetections out;
   out.stamp = stamp;
   out.camera_id = camera_id;

@@ -97,8 +97,8 @@ double projectedArea(const CameraModel& camera, const std::vector<Eigen::Vector3
   return area.finish();
 }
 
-double expectedMarkerArea(const CameraModel& camera, const MarkerShape& shape, double x, double y, double theta,
-                          double z) {
+double expectedMarkerArea(const CameraModel& camera, const MarkerShape& shape, double x, double y,
+                          double theta, double z) {
   ProjectedAreaAccumulator area(camera);
   visitMarkerOutline(shape, x, y, theta, z, 16, [&](const Eigen::Vector3d& p) { area.add(p); });
   return area.finish();

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-
 namespace soccer_vision {
 
 std::optional<Eigen::Matrix2d> pixelToPlaneJacobian(const CameraModel& camera, const Eigen::Vector2d& pixel,

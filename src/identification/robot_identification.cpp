@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdint>
+#include <optional>
 #include <queue>
 #include <set>
 #include <utility>
@@ -25,10 +25,10 @@ struct Observed {
 };
 
 struct Hypothesis {
-  int team = -1;                 // index into observed
-  std::vector<int> slot_obs;     // per slot: index into observed, -1 = missing
+  int team = -1;              // index into observed
+  std::vector<int> slot_obs;  // per slot: index into observed, -1 = missing
   Pose2d pose;
-  int id = -1;                   // -1: unknown (ambiguous or no id markers)
+  int id = -1;  // -1: unknown (ambiguous or no id markers)
   bool heading_valid = false;
   double confidence = 0;
 
@@ -54,7 +54,8 @@ class AssignmentSet {
     const std::size_t n = slots.size();
     if (n == 0) return !std::exchange(empty_seen_, true);  // team-only patterns
     for (std::size_t i = 0; i + n <= flat_.size(); i += n) {
-      if (std::equal(slots.begin(), slots.end(), flat_.begin() + static_cast<std::ptrdiff_t>(i))) return false;
+      if (std::equal(slots.begin(), slots.end(), flat_.begin() + static_cast<std::ptrdiff_t>(i)))
+        return false;
     }
     flat_.insert(flat_.end(), slots.begin(), slots.end());
     return true;
@@ -93,7 +94,8 @@ class Matcher {
     gate2_ = params.marker_gate * params.marker_gate * (1 + 1e-9);  // a superset of d <= gate
     // An elongated team tag has a minor axis along robot x (size_x < size_y) or y.
     const MarkerShape& tm = pattern.team_marker;
-    if (tm.kind == MarkerShape::Kind::Rect && std::max(tm.size_x, tm.size_y) > 1.2 * std::min(tm.size_x, tm.size_y)) {
+    if (tm.kind == MarkerShape::Kind::Rect &&
+        std::max(tm.size_x, tm.size_y) > 1.2 * std::min(tm.size_x, tm.size_y)) {
       team_axis_ = tm.size_x < tm.size_y ? 0.0 : M_PI / 2;
     }
     for (std::size_t r = 0; r < regions.size(); ++r) {
@@ -140,7 +142,8 @@ class Matcher {
     // Id markers within reach of this team marker: the only ones any slot can take.
     std::vector<int> near;
     for (int c : id_markers_) {
-      if (c != t && !used[c] && (observed_[c].plane.centre - team.plane.centre).norm() <= max_reach_ + params_.marker_gate) {
+      if (c != t && !used[c] &&
+          (observed_[c].plane.centre - team.plane.centre).norm() <= max_reach_ + params_.marker_gate) {
         near.push_back(c);
       }
     }
@@ -197,7 +200,8 @@ class Matcher {
     const double c = std::cos(pose.theta), sn = std::sin(pose.theta);
     for (std::size_t s = 0; s < slot_pos_.size(); ++s) {
       const Eigen::Vector2d& l = slot_pos_[s];
-      const Eigen::Vector2d p(pose.x + c * l.x() - sn * l.y(), pose.y + sn * l.x() + c * l.y());  // pose.apply(l)
+      const Eigen::Vector2d p(pose.x + c * l.x() - sn * l.y(),
+                              pose.y + sn * l.x() + c * l.y());  // pose.apply(l)
       for (int o : candidates) {
         if (!(slot_colors_[s] & colorBit(observed_[o].color))) continue;
         // Most pairs are far apart: the root only for those near the gate (same value as norm()).
@@ -210,7 +214,8 @@ class Matcher {
     std::sort(pairs_.begin(), pairs_.end(), [](const SlotPair& a, const SlotPair& b) { return a.d < b.d; });
     slot_obs.assign(slot_pos_.size(), -1);
     for (const SlotPair& p : pairs_) {
-      if (slot_obs[p.slot] >= 0 || std::find(slot_obs.begin(), slot_obs.end(), p.obs) != slot_obs.end()) continue;
+      if (slot_obs[p.slot] >= 0 || std::find(slot_obs.begin(), slot_obs.end(), p.obs) != slot_obs.end())
+        continue;
       slot_obs[p.slot] = p.obs;
     }
   }
@@ -278,8 +283,8 @@ class Matcher {
       return r <= params_.marker_gate;
     };
     auto area = [&](const MarkerShape& shape, const Observed& o) {
-      const double expected = expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta,
-                                                 pattern_.robot_height);
+      const double expected =
+          expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta, pattern_.robot_height);
       if (expected <= 0) return false;
       const double ratio = o.area_px / expected;
       const double l = std::log(ratio) / params_.area_sigma;
@@ -317,7 +322,8 @@ class Matcher {
       if (h.slot_obs[s] >= 0 && !area(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
     }
 
-    h.confidence = std::exp(-0.5 * cost / std::max(terms, 1)) * std::pow(params_.missing_marker_factor, missing);
+    h.confidence =
+        std::exp(-0.5 * cost / std::max(terms, 1)) * std::pow(params_.missing_marker_factor, missing);
     if (has_ids && !id_known) h.confidence = std::min(h.confidence, 0.2);
     return h.confidence >= params_.min_confidence;
   }
@@ -339,7 +345,7 @@ class Matcher {
   std::vector<ColorMask> slot_colors_;
   std::vector<double> slot_dist_, slot_angle_;
   double max_reach_ = 0;
-  double gate2_ = 0;  // squared marker_gate with a margin for rounding
+  double gate2_ = 0;                 // squared marker_gate with a margin for rounding
   std::optional<double> team_axis_;  // minor axis of the team tag in the robot frame
   std::vector<Observed> observed_;
   std::vector<int> teams_, id_markers_;
@@ -357,7 +363,8 @@ RobotIdentifier::RobotIdentifier(const CameraModel& camera, const PatternSet& pa
     : camera_(camera), patterns_(patterns), params_(params) {}
 
 RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions, bool mosaic) const {
-  const Matcher m(camera_, patterns_, params_, regions, mosaic ? params_.axis_weight_mosaic : params_.axis_weight);
+  const Matcher m(camera_, patterns_, params_, regions,
+                  mosaic ? params_.axis_weight_mosaic : params_.axis_weight);
   const auto& obs = m.observed();
   std::vector<char> used(obs.size(), 0);
   std::set<std::pair<Team, int>> taken;
@@ -378,8 +385,9 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     if (done[t] || used[t] || options[t].empty()) continue;
     const Hypothesis& h = options[t].front();
     const auto parts = h.observedUsed();
-    const bool conflict = std::any_of(parts.begin(), parts.end(), [&](int o) { return used[o] != 0; }) ||
-                          (h.id >= 0 && taken.count({obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow, h.id}));
+    const bool conflict =
+        std::any_of(parts.begin(), parts.end(), [&](int o) { return used[o] != 0; }) ||
+        (h.id >= 0 && taken.count({obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow, h.id}));
     if (conflict) {
       // Regions taken since this was formed: form the hypotheses again without them.
       options[t] = m.hypotheses(t, used, taken);

@@ -89,8 +89,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <condition_variable>
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -117,32 +117,35 @@
 #include "soccer_vision/CameraDriverConfig.h"
 #include "soccer_vision/RobotPose.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/ros/transforms.h"
+#include "soccer_vision/sources/frame_source.h"
 
 namespace soccer_vision {
 
 namespace {
 
-
 // Parameters passed to the sources as FrameSourceOptions::settings (strings).
-constexpr const char* kSettingNames[] = {
-    "device", "file", "path", "loop", "realtime", "encoding", "pixel_format", "camera",
-    "packet_size", "buffers", "stamp_delay", "frame_timeout"};
+constexpr const char* kSettingNames[] = {"device",      "file",     "path",         "loop",
+                                         "realtime",    "encoding", "pixel_format", "camera",
+                                         "packet_size", "buffers",  "stamp_delay",  "frame_timeout"};
 
 std::string settingText(XmlRpc::XmlRpcValue& v) {
   switch (v.getType()) {
-    case XmlRpc::XmlRpcValue::TypeBoolean: return static_cast<bool>(v) ? "true" : "false";
-    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(static_cast<int>(v));
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return static_cast<bool>(v) ? "true" : "false";
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return std::to_string(static_cast<int>(v));
     case XmlRpc::XmlRpcValue::TypeDouble: {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.17g", static_cast<double>(v));
       return buf;
     }
-    case XmlRpc::XmlRpcValue::TypeString: return static_cast<std::string>(v);
-    default: return v.toXml();  // the source reports it as malformed
+    case XmlRpc::XmlRpcValue::TypeString:
+      return static_cast<std::string>(v);
+    default:
+      return v.toXml();  // the source reports it as malformed
   }
 }
 
@@ -163,8 +166,7 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   void captureLoop();
   bool openSource();
   void publishFrame(const sensor_msgs::ImagePtr& image, const FrameInfo& info);
-  sensor_msgs::CameraInfoPtr makeCameraInfo(const std_msgs::Header& header, int width,
-                                            int height);
+  sensor_msgs::CameraInfoPtr makeCameraInfo(const std_msgs::Header& header, int width, int height);
   void setupCalibration(int width, int height);
   void publishGroundTruth(const std_msgs::Header& image_header, const FrameInfo& info);
   void sendStaticTf();
@@ -209,11 +211,11 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   std::uint64_t frames_missing_ = 0;  // gaps in the source sequence
   std::string encoding_;
   int width_ = 0, height_ = 0;
-  std::string calibration_problem_;  // why camera_info is not from camera_info_url
-  std::string logged_open_error_;    // capture thread: one error per state change
-  bool grab_failing_ = false;        // capture thread
-  bool was_open_ = false;            // capture thread: opened at least once
-  bool source_failing_ = false;      // grabs failing (diagnostics)
+  std::string calibration_problem_;                // why camera_info is not from camera_info_url
+  std::string logged_open_error_;                  // capture thread: one error per state change
+  bool grab_failing_ = false;                      // capture thread
+  bool was_open_ = false;                          // capture thread: opened at least once
+  bool source_failing_ = false;                    // grabs failing (diagnostics)
   static constexpr double kReminderPeriod = 60.0;  // [s]
   ros::WallTime next_reminder_;                    // capture thread
 
@@ -303,11 +305,10 @@ void CameraDriverNodelet::onInit() {
   updater_->setHardwareID(source_name_ + " camera " + n);
   updater_->add("source", this, &CameraDriverNodelet::sourceDiagnostics);
   image_diag_ = std::make_unique<diagnostic_updater::TopicDiagnostic>(
-      "image_raw", *updater_,
-      diagnostic_updater::FrequencyStatusParam(&min_freq_, &max_freq_, 0.1, 5),
+      "image_raw", *updater_, diagnostic_updater::FrequencyStatusParam(&min_freq_, &max_freq_, 0.1, 5),
       diagnostic_updater::TimeStampStatusParam(-0.01, 0.25));
-  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5),
-                                   [this](const ros::WallTimerEvent&) { updater_->update(); });
+  diag_timer_ =
+      nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
   std::string error;
   source_ = createFrameSource(source_name_, error);
@@ -342,8 +343,8 @@ bool CameraDriverNodelet::openSource() {
   if (!r.ok) {
     // One error per state change: a new failure, not every retry of the same one.
     if (r.error != logged_open_error_)
-      NODELET_ERROR("cannot open %s source (camera %d): %s; retrying every %.1f s",
-                    source_name_.c_str(), camera_id_, r.error.c_str(), retry_period_);
+      NODELET_ERROR("cannot open %s source (camera %d): %s; retrying every %.1f s", source_name_.c_str(),
+                    camera_id_, r.error.c_str(), retry_period_);
     logged_open_error_ = r.error;
     return false;
   }
@@ -370,9 +371,8 @@ bool CameraDriverNodelet::openSource() {
     height_ = f.height;
   }
   min_freq_ = max_freq_ = source_->fps();
-  NODELET_INFO("%s source open: camera %d, %dx%d %s at %.1f Hz, frame %s", source_name_.c_str(),
-               camera_id_, f.width, f.height, f.encoding.c_str(), source_->fps(),
-               frame_id_.c_str());
+  NODELET_INFO("%s source open: camera %d, %dx%d %s at %.1f Hz, frame %s", source_name_.c_str(), camera_id_,
+               f.width, f.height, f.encoding.c_str(), source_->fps(), frame_id_.c_str());
 
   if (!reconfigure_server_) {
     reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
@@ -471,8 +471,8 @@ void CameraDriverNodelet::captureLoop() {
     }
     if (status == GrabStatus::Error) {
       if (!grab_failing_)  // one error per state change; the retries are in diagnostics
-        NODELET_ERROR("%s source (camera %d): grab failed: %s", source_name_.c_str(),
-                      camera_id_, error.c_str());
+        NODELET_ERROR("%s source (camera %d): grab failed: %s", source_name_.c_str(), camera_id_,
+                      error.c_str());
       grab_failing_ = true;
       {
         std::lock_guard<std::mutex> lock(state_mutex_);
@@ -510,8 +510,7 @@ void CameraDriverNodelet::publishFrame(const sensor_msgs::ImagePtr& image, const
   image->header.stamp = ros::Time(info.stamp);
   image->header.frame_id = frame_id_;
   sensor_msgs::CameraInfoPtr camera_info =
-      makeCameraInfo(image->header, static_cast<int>(image->width),
-                     static_cast<int>(image->height));
+      makeCameraInfo(image->header, static_cast<int>(image->width), static_cast<int>(image->height));
   const std_msgs::Header header = image->header;
   if (address_pub_) {
     auto report = boost::make_shared<std_msgs::UInt64MultiArray>();
@@ -526,8 +525,7 @@ void CameraDriverNodelet::publishFrame(const sensor_msgs::ImagePtr& image, const
     ++frames_published_;
   }
   if (info.ground_truth) publishGroundTruth(header, info);
-  if (tf_period_ > 0 && (ros::WallTime::now() - last_tf_sent_).toSec() >= tf_period_)
-    sendStaticTf();
+  if (tf_period_ > 0 && (ros::WallTime::now() - last_tf_sent_).toSec() >= tf_period_) sendStaticTf();
   // Degraded operation (logged when it started) is repeated every kReminderPeriod.
   const ros::WallTime now = ros::WallTime::now();
   if (now >= next_reminder_) {
@@ -550,8 +548,7 @@ void CameraDriverNodelet::setupCalibration(int width, int height) {
   // camera_info_manager's default URL (${ROS_HOME}/camera_info/<camera_name>.yaml).
   if (!camera_info_url_.empty() || !truth) {
     if (!cinfo_->validateURL(camera_info_url_)) {
-      problem = "camera_info_url '" + camera_info_url_ + "' is not a valid URL; publishing " +
-                fallback;
+      problem = "camera_info_url '" + camera_info_url_ + "' is not a valid URL; publishing " + fallback;
     } else if (cinfo_->loadCameraInfo(camera_info_url_) && cinfo_->isCalibrated()) {
       const sensor_msgs::CameraInfo ci = cinfo_->getCameraInfo();
       if (static_cast<int>(ci.width) == width && static_cast<int>(ci.height) == height) {
@@ -563,27 +560,27 @@ void CameraDriverNodelet::setupCalibration(int width, int height) {
                 std::to_string(ci.width) + "x" + std::to_string(ci.height) + ", the image is " +
                 std::to_string(width) + "x" + std::to_string(height) + "; publishing " + fallback;
     } else if (!camera_info_url_.empty()) {
-      problem = "camera_info_url '" + camera_info_url_ + "' could not be loaded; publishing " +
-                fallback;
+      problem = "camera_info_url '" + camera_info_url_ + "' could not be loaded; publishing " + fallback;
     }
   }
   // set_camera_info can still replace this at run time.
-  cinfo_->setCameraInfo(truth ? toCameraInfo(CameraModel(*truth, Eigen::Isometry3d::Identity()),
-                                             frame_id_)
+  cinfo_->setCameraInfo(truth ? toCameraInfo(CameraModel(*truth, Eigen::Isometry3d::Identity()), frame_id_)
                               : sensor_msgs::CameraInfo());
   if (!problem.empty()) NODELET_ERROR("%s", problem.c_str());
   std::lock_guard<std::mutex> lock(state_mutex_);
   calibration_problem_ = problem;
 }
 
-sensor_msgs::CameraInfoPtr CameraDriverNodelet::makeCameraInfo(const std_msgs::Header& header,
-                                                               int width, int height) {
+sensor_msgs::CameraInfoPtr CameraDriverNodelet::makeCameraInfo(const std_msgs::Header& header, int width,
+                                                               int height) {
   auto ci = boost::make_shared<sensor_msgs::CameraInfo>(cinfo_->getCameraInfo());
   if (static_cast<int>(ci->width) != width || static_cast<int>(ci->height) != height) {
     // Uncalibrated, or set_camera_info sent another resolution: size only.
     if (ci->K[0] != 0)
-      NODELET_ERROR_THROTTLE(30.0, "camera_info is for %ux%u, the image is %dx%d; publishing "
-                             "an uncalibrated camera_info", ci->width, ci->height, width, height);
+      NODELET_ERROR_THROTTLE(30.0,
+                             "camera_info is for %ux%u, the image is %dx%d; publishing "
+                             "an uncalibrated camera_info",
+                             ci->width, ci->height, width, height);
     *ci = sensor_msgs::CameraInfo();
     ci->width = static_cast<uint32_t>(width);
     ci->height = static_cast<uint32_t>(height);
@@ -592,8 +589,7 @@ sensor_msgs::CameraInfoPtr CameraDriverNodelet::makeCameraInfo(const std_msgs::H
   return ci;
 }
 
-void CameraDriverNodelet::publishGroundTruth(const std_msgs::Header& image_header,
-                                             const FrameInfo& info) {
+void CameraDriverNodelet::publishGroundTruth(const std_msgs::Header& image_header, const FrameInfo& info) {
   const bool want_robots = gt_robots_pub_.getNumSubscribers() > 0;
   const bool want_balls = gt_balls_pub_.getNumSubscribers() > 0;
   const bool want_ball = gt_ball_pub_.getNumSubscribers() > 0;
@@ -605,9 +601,9 @@ void CameraDriverNodelet::publishGroundTruth(const std_msgs::Header& image_heade
     return i >= 0 && static_cast<std::size_t>(i) < flags.size() && flags[i];
   };
   if (want_robots) {
-    auto robots = boost::make_shared<RobotPoseArray>(toRobotPoseArray(
-        scene, image_header.stamp, camera_id_,
-        [&](const RobotState& r) { return flag(info.robot_visible, scene.robots, r); }));
+    auto robots = boost::make_shared<RobotPoseArray>(
+        toRobotPoseArray(scene, image_header.stamp, camera_id_,
+                         [&](const RobotState& r) { return flag(info.robot_visible, scene.robots, r); }));
     robots->header.seq = image_header.seq;
     for (RobotPose& p : robots->robots) {
       p.header.seq = image_header.seq;
@@ -616,9 +612,9 @@ void CameraDriverNodelet::publishGroundTruth(const std_msgs::Header& image_heade
     gt_robots_pub_.publish(robots);
   }
   if (!want_balls && !(want_ball && !scene.balls.empty())) return;
-  auto balls = boost::make_shared<BallPoseArray>(toBallPoseArray(
-      scene, image_header.stamp, camera_id_,
-      [&](const BallState& b) { return flag(info.ball_visible, scene.balls, b); }));
+  auto balls = boost::make_shared<BallPoseArray>(
+      toBallPoseArray(scene, image_header.stamp, camera_id_,
+                      [&](const BallState& b) { return flag(info.ball_visible, scene.balls, b); }));
   balls->header.seq = image_header.seq;
   for (BallPose& p : balls->balls) p.header.seq = image_header.seq;
   if (want_ball && !balls->balls.empty())
@@ -636,15 +632,14 @@ void CameraDriverNodelet::sendStaticTf() {
 void CameraDriverNodelet::sourceDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(state_mutex_);
   if (!source_open_) {
-    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source not open: %s",
-                  source_name_.c_str(), source_error_.c_str());
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source not open: %s", source_name_.c_str(),
+                  source_error_.c_str());
   } else if (source_failing_) {
-    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source failing: %s",
-                  source_name_.c_str(), source_error_.c_str());
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%s source failing: %s", source_name_.c_str(),
+                  source_error_.c_str());
   } else if (!source_warnings_.empty() || !calibration_problem_.empty()) {
     std::string msg = source_warnings_.empty() ? "" : source_warnings_.front();
-    if (!calibration_problem_.empty())
-      msg += (msg.empty() ? "" : "; ") + calibration_problem_;
+    if (!calibration_problem_.empty()) msg += (msg.empty() ? "" : "; ") + calibration_problem_;
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, msg);
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "capturing");

@@ -142,10 +142,12 @@ void IdentificationNodelet::onInit() {
   updater_->setHardwareID("camera " + std::to_string(camera_id_));
   updater_->add("identification", this, &IdentificationNodelet::diagnostics);
   window_start_ = ros::WallTime::now();
-  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
+  diag_timer_ =
+      nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
   reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
-  reconfigure_server_->setCallback([this](IdentificationConfig& c, uint32_t level) { reconfigure(c, level); });
+  reconfigure_server_->setCallback(
+      [this](IdentificationConfig& c, uint32_t level) { reconfigure(c, level); });
 
   detections_pub_ = nh.advertise<CameraDetections>("detections", 5);
   info_sub_ = nh.subscribe("camera_info", 2, &IdentificationNodelet::cameraInfoCallback, this);
@@ -191,15 +193,15 @@ std::shared_ptr<const FrameIdentifier> IdentificationNodelet::identifierFor(cons
     if (!pose_file_path_.empty() && !pose_file_) pose_file_ = loadCameraPoseFile(pose_file_path_);
     if (pose_file_) {
       camera = cameraModelFromPose(*pose_file_, intrinsics, pose_file_path_);
-      const std::string child = pose_file_->child_frame_id.empty() ? blobs.header.frame_id : pose_file_->child_frame_id;
+      const std::string child =
+          pose_file_->child_frame_id.empty() ? blobs.header.frame_id : pose_file_->child_frame_id;
       if (!static_tf_) {
         static_tf_ = SharedStaticTf::get();
         const auto t = toTransformStamped(pose_file_->field_T_camera, field_frame_, child, ros::Time::now());
         static_tf_->send(t);
         // Re-sent: another static broadcaster of this process may replace the latched message.
-        tf_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(2.0), [this, t](const ros::WallTimerEvent&) {
-          static_tf_->send(t);
-        });
+        tf_timer_ = getNodeHandle().createWallTimer(
+            ros::WallDuration(2.0), [this, t](const ros::WallTimerEvent&) { static_tf_->send(t); });
       }
     } else {
       const geometry_msgs::TransformStamped t =
@@ -225,8 +227,8 @@ void IdentificationNodelet::drop(std::uint64_t& counter) {
 void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   const ros::WallTime start = ros::WallTime::now();
   if (blobs->camera_id != camera_id_) {
-    NODELET_ERROR_THROTTLE(5.0, "blobs of camera %d, this nodelet is camera %d; frame dropped", blobs->camera_id,
-                           camera_id_);
+    NODELET_ERROR_THROTTLE(5.0, "blobs of camera %d, this nodelet is camera %d; frame dropped",
+                           blobs->camera_id, camera_id_);
     drop(dropped_other_camera_);
     return;
   }
@@ -237,8 +239,8 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
       std::lock_guard<std::mutex> lock(mutex_);
       why = problem_;
     }
-    NODELET_ERROR_THROTTLE(5.0, "no camera model for frame '%s': %s; frame dropped", blobs->header.frame_id.c_str(),
-                           why.c_str());
+    NODELET_ERROR_THROTTLE(5.0, "no camera model for frame '%s': %s; frame dropped",
+                           blobs->header.frame_id.c_str(), why.c_str());
     drop(dropped_no_camera_);
     return;
   }

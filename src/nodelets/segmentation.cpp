@@ -74,12 +74,10 @@
 //                      frame as the illumination reference; swapped in atomically and written
 //                      to a file when `save`. Failure: success false, the previous table stays.
 //   ~set_parameters    dynamic_reconfigure.
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -88,6 +86,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 #include <boost/make_shared.hpp>
@@ -108,12 +107,12 @@
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/SegmentationConfig.h"
 #include "soccer_vision/calibration/color_calibration.h"
-#include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/ros/blob_conversions.h"
+#include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/tracking/frame_step.h"
-#include "soccer_vision/ros/blob_conversions.h"
-#include "soccer_vision/segmentation/segmenter.h"
 
 namespace soccer_vision {
 
@@ -140,10 +139,9 @@ std::string summarizeTable(const ColorTable& table) {
   for (int c = 1; c < kNumColorClasses; ++c) {
     const ClassStatistics& s = st.classes[c];
     if (s.samples == 0) continue;
-    os << colorClassName(static_cast<ColorClass>(c)) << ": " << s.valid << "/" << s.samples
-       << " valid, Lab (" << s.mean_lab.l << ", " << s.mean_lab.a << ", " << s.mean_lab.b
-       << "), H " << s.mean_h << ", cells " << s.cells_assigned << "/" << s.cells_claimed
-       << "; ";
+    os << colorClassName(static_cast<ColorClass>(c)) << ": " << s.valid << "/" << s.samples << " valid, Lab ("
+       << s.mean_lab.l << ", " << s.mean_lab.a << ", " << s.mean_lab.b << "), H " << s.mean_h << ", cells "
+       << s.cells_assigned << "/" << s.cells_claimed << "; ";
   }
   os << st.overlap_cells << " overlap cells decided by Bayes";
   return os.str();
@@ -165,8 +163,8 @@ class SegmentationNodelet : public nodelet::Nodelet {
   void loaderLoop();
   void requestLoad(const std::string& path);
   std::vector<cv::Rect> searchWindows(const ros::Time& image_stamp);
-  void publishDebug(const sensor_msgs::ImageConstPtr& image, const cv::Mat& mat,
-                    PixelLayout layout, const SegmentationModel& model);
+  void publishDebug(const sensor_msgs::ImageConstPtr& image, const cv::Mat& mat, PixelLayout layout,
+                    const SegmentationModel& model);
   void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void dropFrame(std::uint64_t& counter);
 
@@ -243,8 +241,7 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::array<std::uint64_t, kNumColorClasses> window_regions_{};
   std::array<std::uint64_t, kNumColorClasses> cap_hits_total_{};
   std::uint64_t window_cap_hits_ = 0;
-  std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0,
-                dropped_error_ = 0;
+  std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0, dropped_error_ = 0;
   std::uint64_t window_dropped_ = 0;
   std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0, skipped_by_frame_step_ = 0;
   std::string last_bad_encoding_;
@@ -281,14 +278,13 @@ void SegmentationNodelet::onInit() {
   updater_->setHardwareID("camera " + std::to_string(camera_id_));
   updater_->add("segmentation", this, &SegmentationNodelet::diagnostics);
   window_start_ = ros::WallTime::now();
-  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5),
-                                   [this](const ros::WallTimerEvent&) { updater_->update(); });
+  diag_timer_ =
+      nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
   // The reconfigure server reads the ~parameters and calls reconfigure() at once, which
   // applies them and requests the load of ~color_table (in the background).
   reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
-  reconfigure_server_->setCallback(
-      [this](SegmentationConfig& c, uint32_t level) { reconfigure(c, level); });
+  reconfigure_server_->setCallback([this](SegmentationConfig& c, uint32_t level) { reconfigure(c, level); });
   {
     std::lock_guard<std::mutex> lock(config_mutex_);
     segmenter_.setParams(params_);
@@ -302,15 +298,14 @@ void SegmentationNodelet::onInit() {
   debug_pub_ = it_->advertise("debug/classification", 1);
   windows_sub_ = nh.subscribe("search_windows", 2, &SegmentationNodelet::windowsCallback, this);
   calibrate_srv_ = pnh.advertiseService("calibrate", &SegmentationNodelet::calibrate, this);
-  image_sub_ = it_->subscribe("image_raw", static_cast<uint32_t>(queue_size),
-                              &SegmentationNodelet::imageCallback, this,
-                              image_transport::TransportHints("raw", ros::TransportHints(), pnh));
+  image_sub_ =
+      it_->subscribe("image_raw", static_cast<uint32_t>(queue_size), &SegmentationNodelet::imageCallback,
+                     this, image_transport::TransportHints("raw", ros::TransportHints(), pnh));
 }
 
 void SegmentationNodelet::reconfigure(SegmentationConfig& config, uint32_t /*level*/) {
   if (config.max_area < config.min_area) {
-    NODELET_ERROR("max_area %d < min_area %d; using max_area = min_area", config.max_area,
-                  config.min_area);
+    NODELET_ERROR("max_area %d < min_area %d; using max_area = min_area", config.max_area, config.min_area);
     config.max_area = config.min_area;
   }
   {
@@ -359,7 +354,8 @@ void SegmentationNodelet::loaderLoop() {
     // Without any table, a file that does not exist yet (being written by a calibration
     // started at the same time, e.g. the demo's) is waited for, with the error once.
     if (!model() && access(path.c_str(), F_OK) != 0) {
-      if (!last_load_failed_) NODELET_ERROR("color_table %s does not exist (yet): waiting for it", path.c_str());
+      if (!last_load_failed_)
+        NODELET_ERROR("color_table %s does not exist (yet): waiting for it", path.c_str());
       last_load_failed_ = true;
       {
         std::lock_guard<std::mutex> state(state_mutex_);
@@ -420,8 +416,10 @@ void SegmentationNodelet::dropFrame(std::uint64_t& counter) {
 void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image) {
   const std::optional<PixelLayout> layout = pixelLayoutForEncoding(image->encoding);
   if (!layout) {
-    NODELET_ERROR_THROTTLE(5.0, "image_raw encoding '%s' is not supported (bgr8, rgb8, "
-                           "bayer_*8 are); frame dropped", image->encoding.c_str());
+    NODELET_ERROR_THROTTLE(5.0,
+                           "image_raw encoding '%s' is not supported (bgr8, rgb8, "
+                           "bayer_*8 are); frame dropped",
+                           image->encoding.c_str());
     {
       std::lock_guard<std::mutex> lock(state_mutex_);
       last_bad_encoding_ = image->encoding;
@@ -430,13 +428,13 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     return;
   }
   const std::size_t bytes_per_pixel = isBayer(*layout) ? 1 : 3;
-  if (image->width == 0 || image->height == 0 ||
-      image->step < image->width * bytes_per_pixel ||
+  if (image->width == 0 || image->height == 0 || image->step < image->width * bytes_per_pixel ||
       image->data.size() < static_cast<std::size_t>(image->step) * image->height ||
       (isBayer(*layout) && (image->width % 2 != 0 || image->height % 2 != 0))) {
-    NODELET_ERROR_THROTTLE(5.0, "image_raw %ux%u %s with step %u and %zu data bytes is empty, "
-                           "truncated or inconsistent; frame dropped", image->width,
-                           image->height, image->encoding.c_str(), image->step,
+    NODELET_ERROR_THROTTLE(5.0,
+                           "image_raw %ux%u %s with step %u and %zu data bytes is empty, "
+                           "truncated or inconsistent; frame dropped",
+                           image->width, image->height, image->encoding.c_str(), image->step,
                            image->data.size());
     dropFrame(dropped_bad_image_);
     return;
@@ -461,7 +459,8 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
   }
   const std::shared_ptr<const SegmentationModel> m = model();
   if (!m) {
-    NODELET_ERROR_THROTTLE(5.0, "no colour table yet (set color_table or call ~calibrate); "
+    NODELET_ERROR_THROTTLE(5.0,
+                           "no colour table yet (set color_table or call ~calibrate); "
                            "frame dropped");
     dropFrame(dropped_no_table_);
     return;
@@ -508,15 +507,15 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     if (result_.illumination_size_mismatch) ++illumination_mismatch_;
   }
   if (result_.illumination_size_mismatch)
-    NODELET_WARN_THROTTLE(30.0, "the colour table's illumination reference is for another "
+    NODELET_WARN_THROTTLE(30.0,
+                          "the colour table's illumination reference is for another "
                           "image size: illumination adaptation is off");
 
   if (debug_pub_.getNumSubscribers() > 0) publishDebug(image, cv->image, *layout, *m);
 }
 
-void SegmentationNodelet::publishDebug(const sensor_msgs::ImageConstPtr& image,
-                                       const cv::Mat& mat, PixelLayout layout,
-                                       const SegmentationModel& model) {
+void SegmentationNodelet::publishDebug(const sensor_msgs::ImageConstPtr& image, const cv::Mat& mat,
+                                       PixelLayout layout, const SegmentationModel& model) {
   try {
     const cv::Mat colors = colorizeLabels(classifyAll(model, mat, layout, segmenter_.params()));
     cv_bridge::CvImage out(image->header, sensor_msgs::image_encodings::BGR8, colors);
@@ -560,19 +559,17 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     for (const auto& entry : samples) {
       const auto it = pixels.find(entry.first);
       if (it == pixels.end() || it->second.empty())
-        throw std::runtime_error("the polygons of class '" +
-                                 std::string(colorClassName(entry.first)) +
-                                 "' select no pixel of the latest frame (" +
-                                 std::to_string(image->width) + "x" +
-                                 std::to_string(image->height) + ")");
+        throw std::runtime_error("the polygons of class '" + std::string(colorClassName(entry.first)) +
+                                 "' select no pixel of the latest frame (" + std::to_string(image->width) +
+                                 "x" + std::to_string(image->height) + ")");
     }
     ColorTableParams params;
     params.threshold_lab = threshold_lab;
     params.threshold_h = threshold_h;
     params.validate();
     // Table + illumination reference of this frame, then the lookup: outside every lock.
-    auto table = std::make_shared<const ColorTable>(
-        calibrateColorTable({CalibrationImage{bgr, samples}}, params));
+    auto table =
+        std::make_shared<const ColorTable>(calibrateColorTable({CalibrationImage{bgr, samples}}, params));
     std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
     std::string source = "~calibrate on frame " + std::to_string(image->header.stamp.toSec());
     if (req.save) {

@@ -67,13 +67,13 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/TrackingConfig.h"
-#include "soccer_vision/tracking/result_recording.h"
+#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/field_markers.h"
 #include "soccer_vision/ros/transforms.h"
-#include "soccer_vision/common/statistics.h"
+#include "soccer_vision/tracking/result_recording.h"
 #include "soccer_vision/tracking/search_planner.h"
 #include "soccer_vision/tracking/tracker.h"
 
@@ -203,7 +203,8 @@ void TrackingNodelet::onInit() {
   updater_->setHardwareID("tracker");
   updater_->add("tracking", this, &TrackingNodelet::diagnostics);
   window_start_ = ros::WallTime::now();
-  diag_timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
+  diag_timer_ =
+      nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
   reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback([this](TrackingConfig& c, uint32_t level) { reconfigure(c, level); });
@@ -214,13 +215,14 @@ void TrackingNodelet::onInit() {
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
   field_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("field_markers", 1, true);
   window_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("window_markers", 5);
-  field_markers_pub_.publish(boost::make_shared<visualization_msgs::MarkerArray>(fieldMarkers(FieldGeometry{}, field_frame_)));
+  field_markers_pub_.publish(
+      boost::make_shared<visualization_msgs::MarkerArray>(fieldMarkers(FieldGeometry{}, field_frame_)));
 
   std::vector<double> offsets;
   pnh.getParam("measurement_offsets", offsets);
   if (offsets.size() > namespaces.size()) {
-    NODELET_ERROR("measurement_offsets has %zu entries for %zu cameras; the extra ones are ignored", offsets.size(),
-                  namespaces.size());
+    NODELET_ERROR("measurement_offsets has %zu entries for %zu cameras; the extra ones are ignored",
+                  offsets.size(), namespaces.size());
   }
   for (const std::string& ns : namespaces) {
     auto camera = std::make_unique<Camera>();
@@ -230,15 +232,16 @@ void TrackingNodelet::onInit() {
       if (std::abs(offsets[index]) <= 0.1) {
         camera->measurement_offset = offsets[index];
       } else {
-        NODELET_ERROR("measurement_offsets[%zu] = %g s is outside [-0.1, 0.1] s; %s uses measurement_offset", index,
-                      offsets[index], ns.c_str());
+        NODELET_ERROR("measurement_offsets[%zu] = %g s is outside [-0.1, 0.1] s; %s uses measurement_offset",
+                      index, offsets[index], ns.c_str());
       }
     }
     camera->planner = SearchPlanner(search_params_);
     Camera* c = camera.get();
     camera->windows_pub = nh.advertise<SearchWindows>(ns + "/search_windows", 2);
     camera->info_sub = nh.subscribe<sensor_msgs::CameraInfo>(
-        ns + "/camera_info", 2, [this, c](const sensor_msgs::CameraInfoConstPtr& m) { cameraInfoCallback(*c, m); });
+        ns + "/camera_info", 2,
+        [this, c](const sensor_msgs::CameraInfoConstPtr& m) { cameraInfoCallback(*c, m); });
     camera->detections_sub = nh.subscribe<CameraDetections>(
         ns + "/detections", 5, [this, c](const CameraDetectionsConstPtr& m) { detectionsCallback(*c, m); });
     cameras_.push_back(std::move(camera));
@@ -312,7 +315,8 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     if (camera.measurement_offset) {
       // Camera ids are known from the detections only: the camera's own offset is keyed by it.
       const auto it = tracker_params_.camera_measurement_offsets.find(frame.camera_id);
-      if (it == tracker_params_.camera_measurement_offsets.end() || it->second != *camera.measurement_offset) {
+      if (it == tracker_params_.camera_measurement_offsets.end() ||
+          it->second != *camera.measurement_offset) {
         tracker_params_.camera_measurement_offsets[frame.camera_id] = *camera.measurement_offset;
         try {
           tracker_.setParams(tracker_params_);
@@ -379,9 +383,10 @@ void TrackingNodelet::publishWindowMarkers(const CameraModel& model, const Searc
   for (const auto& roi : windows.windows) {
     const double x0 = roi.x_offset, y0 = roi.y_offset, x1 = x0 + roi.width - 1.0, y1 = y0 + roi.height - 1.0;
     std::vector<Eigen::Vector3d> outline;
-    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0), Eigen::Vector2d(x1, y1),
-                                          Eigen::Vector2d(x0, y1)}) {
-      if (const auto p = model.pixelToField(corner, search_params_.windows.robot_height)) outline.push_back(*p);
+    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0),
+                                          Eigen::Vector2d(x1, y1), Eigen::Vector2d(x0, y1)}) {
+      if (const auto p = model.pixelToField(corner, search_params_.windows.robot_height))
+        outline.push_back(*p);
     }
     if (outline.size() == 4) outlines.push_back(std::move(outline));
   }

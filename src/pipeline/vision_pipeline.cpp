@@ -12,7 +12,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+double ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
 
 // The Segmentation nodelet's window_max_age: windows planned for a much older stamp are
 // stale (a paused or skipped stream) and the frame is searched whole.
@@ -28,13 +30,18 @@ void validate(const VisionPipelineParams& p) {
 
 VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const PatternSet& patterns,
                                const FieldGeometry& field, const VisionPipelineParams& params)
-    : cameras_(std::move(cameras)), params_(params), segmenter_(params.segmentation), tracker_(params.tracker) {
+    : cameras_(std::move(cameras)),
+      params_(params),
+      segmenter_(params.segmentation),
+      tracker_(params.tracker) {
   validate(params_);
   if (cameras_.empty()) throw std::invalid_argument("VisionPipeline: no cameras");
   std::set<int> ids;
   for (const PipelineCamera& c : cameras_) {
-    if (!ids.insert(c.id).second) throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " twice");
-    if (!c.segmentation) throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " has no colour table");
+    if (!ids.insert(c.id).second)
+      throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " twice");
+    if (!c.segmentation)
+      throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " has no colour table");
     state_.emplace_back(FrameIdentifier(c.model, patterns, field, params_.identification), params_);
   }
 }
@@ -63,16 +70,17 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   const bool stale = state.next && stamp - state.next->stamp > kWindowMaxAge;
   static const std::vector<cv::Rect> kWhole;
   const std::vector<cv::Rect>& windows = state.next && !stale ? state.next->rects : kWhole;
-  frame.search_reason = !state.next                                               ? GlobalSearchReason::First
-                        : stale && state.next->reason == GlobalSearchReason::None ? GlobalSearchReason::AfterReset
-                                                                                  : state.next->reason;
+  frame.search_reason = !state.next ? GlobalSearchReason::First
+                        : stale && state.next->reason == GlobalSearchReason::None
+                            ? GlobalSearchReason::AfterReset
+                            : state.next->reason;
 
   const auto t0 = Clock::now();
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_);
   frame.global_search = segmented_.global_search;
   frame.windows = segmented_.windows.size();
-  frame.detections =
-      state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search, isBayer(camera.layout));
+  frame.detections = state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search,
+                                               isBayer(camera.layout));
   const auto t1 = Clock::now();
 
   frame.prediction = tracker_.output(stamp);

@@ -26,12 +26,17 @@ void mergeTruth(FrameRecord& into, const FrameRecord& camera) {
   for (const RobotRecord& r : camera.robots) {
     auto it = std::find_if(into.robots.begin(), into.robots.end(),
                            [&](const RobotRecord& o) { return o.team == r.team && o.id == r.id; });
-    if (it == into.robots.end()) into.robots.push_back(r);
-    else it->visible = it->visible.value_or(false) || r.visible.value_or(false);
+    if (it == into.robots.end())
+      into.robots.push_back(r);
+    else
+      it->visible = it->visible.value_or(false) || r.visible.value_or(false);
   }
   for (std::size_t k = 0; k < camera.balls.size(); ++k) {
-    if (k >= into.balls.size()) into.balls.push_back(camera.balls[k]);
-    else into.balls[k].visible = into.balls[k].visible.value_or(false) || camera.balls[k].visible.value_or(false);
+    if (k >= into.balls.size())
+      into.balls.push_back(camera.balls[k]);
+    else
+      into.balls[k].visible =
+          into.balls[k].visible.value_or(false) || camera.balls[k].visible.value_or(false);
   }
 }
 
@@ -61,7 +66,8 @@ BagFrames::BagFrames(const std::string& path) : path_(path), bag_(std::make_uniq
       namespaces.insert(c->topic.substr(0, c->topic.size() - kImageSuffix.size()));
     }
   }
-  if (namespaces.empty()) throw std::runtime_error(path + ": no <camera>/image_raw topic (sensor_msgs/Image)");
+  if (namespaces.empty())
+    throw std::runtime_error(path + ": no <camera>/image_raw topic (sensor_msgs/Image)");
   static const std::regex kCameraNumber(".*camera_([0-9]+)$");
   int rank = 0;
   std::set<int> ids;
@@ -70,7 +76,8 @@ BagFrames::BagFrames(const std::string& path) : path_(path), bag_(std::make_uniq
     c.ns = ns;
     std::smatch m;
     c.id = std::regex_match(ns, m, kCameraNumber) ? std::stoi(m[1]) : rank;
-    if (!ids.insert(c.id).second) throw std::runtime_error(path + ": two cameras numbered " + std::to_string(c.id));
+    if (!ids.insert(c.id).second)
+      throw std::runtime_error(path + ": two cameras numbered " + std::to_string(c.id));
     ++rank;
     rosbag::View images(*bag_, rosbag::TopicQuery(ns + kImageSuffix));
     c.images = images.size();
@@ -98,7 +105,8 @@ std::size_t BagFrames::forEachImage(const std::vector<int>& camera_ids, const Im
   std::vector<std::string> topics;
   std::map<std::string, const BagCamera*> by_topic;
   for (const BagCamera& c : cameras_) {
-    if (!camera_ids.empty() && std::find(camera_ids.begin(), camera_ids.end(), c.id) == camera_ids.end()) continue;
+    if (!camera_ids.empty() && std::find(camera_ids.begin(), camera_ids.end(), c.id) == camera_ids.end())
+      continue;
     topics.push_back(c.ns + kImageSuffix);
     by_topic[topics.back()] = &c;
   }
@@ -124,7 +132,8 @@ std::size_t BagFrames::forEachImage(const std::vector<int>& camera_ids, const Im
   return visited;
 }
 
-std::map<std::size_t, BagFrames::Image> BagFrames::images(int camera_id, const std::set<std::size_t>& indices) const {
+std::map<std::size_t, BagFrames::Image> BagFrames::images(int camera_id,
+                                                          const std::set<std::size_t>& indices) const {
   std::map<std::size_t, Image> out;
   const BagCamera* c = camera(camera_id);
   if (!c || indices.empty()) return out;
@@ -158,8 +167,10 @@ std::vector<FrameRecord> BagFrames::groundTruth() const {
   for (const rosbag::MessageInstance& m : view) {
     const std::string& topic = m.getTopic();
     const std::string ns = topic.substr(0, topic.find("/ground_truth/"));
-    if (const auto r = m.instantiate<RobotPoseArray>()) robots[{ns, r->header.stamp}] = *r;
-    else if (const auto b = m.instantiate<BallPoseArray>()) balls[{ns, b->header.stamp}] = *b;
+    if (const auto r = m.instantiate<RobotPoseArray>())
+      robots[{ns, r->header.stamp}] = *r;
+    else if (const auto b = m.instantiate<BallPoseArray>())
+      balls[{ns, b->header.stamp}] = *b;
   }
   std::map<ros::Time, FrameRecord> merged;
   for (const auto& [key, r] : robots) {

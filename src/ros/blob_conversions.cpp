@@ -7,9 +7,7 @@ namespace soccer_vision {
 
 namespace {
 
-std::uint16_t clampU16(int v) {
-  return static_cast<std::uint16_t>(std::clamp(v, 0, 65535));
-}
+std::uint16_t clampU16(int v) { return static_cast<std::uint16_t>(std::clamp(v, 0, 65535)); }
 
 }  // namespace
 
@@ -48,8 +46,8 @@ cv::Rect fromRegionOfInterest(const sensor_msgs::RegionOfInterest& roi) {
   return cv::Rect(toInt(roi.x_offset), toInt(roi.y_offset), toInt(roi.width), toInt(roi.height));
 }
 
-void toBlobArray(const SegmentationResult& result, const std_msgs::Header& header,
-                 int camera_id, int image_width, int image_height, bool mosaic, BlobArray& out) {
+void toBlobArray(const SegmentationResult& result, const std_msgs::Header& header, int camera_id,
+                 int image_width, int image_height, bool mosaic, BlobArray& out) {
   out.header = header;
   out.camera_id = static_cast<std::uint8_t>(std::clamp(camera_id, 0, 255));
   out.image_width = static_cast<std::uint32_t>(std::max(image_width, 0));

@@ -27,8 +27,7 @@ CameraIntrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
   if (!info.D.empty() && !plumb && !rational) {
     throw std::runtime_error("unsupported distortion model '" + info.distortion_model + "'");
   }
-  if (rational && info.D.size() > 5 &&
-      (info.D[5] != 0 || info.D[6] != 0 || info.D[7] != 0)) {
+  if (rational && info.D.size() > 5 && (info.D[5] != 0 || info.D[6] != 0 || info.D[7] != 0)) {
     throw std::runtime_error("rational_polynomial with k4..k6 != 0 is not supported");
   }
   CameraIntrinsics k;

@@ -1,12 +1,12 @@
 #include "soccer_vision/ros/field_markers.h"
 
-#include "soccer_vision/ros/detection_conversions.h"
-
 #include <cmath>
 #include <string>
 
 #include <geometry_msgs/Point.h>
 #include <std_msgs/ColorRGBA.h>
+
+#include "soccer_vision/ros/detection_conversions.h"
 
 namespace soccer_vision {
 namespace {
@@ -77,7 +77,8 @@ visualization_msgs::MarkerArray fieldMarkers(const FieldGeometry& field, const s
     constexpr int kSegments = 72;
     for (int i = 0; i <= kSegments; ++i) {
       const double a = 2 * M_PI * i / kSegments;
-      circle.points.push_back(point(c.centre.x() + c.radius * std::cos(a), c.centre.y() + c.radius * std::sin(a), 0.001));
+      circle.points.push_back(
+          point(c.centre.x() + c.radius * std::cos(a), c.centre.y() + c.radius * std::sin(a), 0.001));
     }
     out.markers.push_back(circle);
   }
@@ -105,7 +106,8 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
     text.pose.position = point(r.x, r.y, style.robot_height + 0.12);
     text.scale.z = 0.15;
     text.color = rgba(1, 1, 1, alpha);
-    text.text = r.id == kNoRobotId ? (blue ? "B" : "Y") : std::string(blue ? "B" : "Y") + std::to_string(r.id);
+    text.text =
+        r.id == kNoRobotId ? (blue ? "B" : "Y") : std::string(blue ? "B" : "Y") + std::to_string(r.id);
     text.lifetime = lifetime;
     out.markers.push_back(text);
 
@@ -133,8 +135,9 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
   }
 }
 
-void appendOutlineMarkers(const std::vector<std::vector<Eigen::Vector3d>>& outlines, const std_msgs::Header& header,
-                          double lifetime, visualization_msgs::MarkerArray& out) {
+void appendOutlineMarkers(const std::vector<std::vector<Eigen::Vector3d>>& outlines,
+                          const std_msgs::Header& header, double lifetime,
+                          visualization_msgs::MarkerArray& out) {
   int id = 0;
   for (const auto& outline : outlines) {
     if (outline.empty()) continue;

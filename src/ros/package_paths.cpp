@@ -15,7 +15,8 @@ std::string resolveScenarioPath(const std::string& name_or_path) {
   }
   const std::string pkg = ros::package::getPath("soccer_vision");
   if (pkg.empty()) {
-    throw std::runtime_error("cannot find the soccer_vision package to look up preset '" + name_or_path + "'");
+    throw std::runtime_error("cannot find the soccer_vision package to look up preset '" + name_or_path +
+                             "'");
   }
   return pkg + "/config/scenarios/" + name_or_path + ".yaml";
 }

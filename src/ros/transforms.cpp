@@ -26,12 +26,15 @@ geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& pare
 Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
+  pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
+                      .normalized()
+                      .toRotationMatrix();
   return pose;
 }
 
-geometry_msgs::TransformStamped planarTransform(double x, double y, double z, double yaw, const std::string& parent,
-                                                const std::string& child, const ros::Time& stamp) {
+geometry_msgs::TransformStamped planarTransform(double x, double y, double z, double yaw,
+                                                const std::string& parent, const std::string& child,
+                                                const ros::Time& stamp) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = stamp;
   t.header.frame_id = parent;

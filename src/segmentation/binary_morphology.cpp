@@ -79,9 +79,9 @@ cv::Mat BitMask::toMat() const {
 namespace {
 
 // Both passes combine, for output pixel x, the input pixels x + d for d in
-// [-anchor, k - 1 - anchor] (OpenCV's anchored window; its default anchor is k/2). Outside the mask the input is the
-// identity of the combination (1 for AND = erosion, 0 for OR = dilation), which is
-// OpenCV's default border, so out-of-range rows and bits can simply be left out.
+// [-anchor, k - 1 - anchor] (OpenCV's anchored window; its default anchor is k/2). Outside the mask the input
+// is the identity of the combination (1 for AND = erosion, 0 for OR = dilation), which is OpenCV's default
+// border, so out-of-range rows and bits can simply be left out.
 template <bool kErode>
 std::uint64_t combine(std::uint64_t a, std::uint64_t b) {
   return kErode ? a & b : a | b;
@@ -180,8 +180,8 @@ void squareRows(const BitMask& in, int first, int last, int row_begin, int row_e
 // Rows outside [row_begin, row_end) are left out and written as background: the caller
 // knows that they are background in the input and in the result.
 template <bool kErode>
-void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch, int row_begin = 0,
-                int row_end = -1) {
+void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologyScratch& scratch,
+                int row_begin = 0, int row_end = -1) {
   if (anchor < 0) anchor = k / 2;
   CV_Assert(k >= 1 && k < 64 && anchor < k && &in != &out);
   out.resize(cv::Size(in.width(), in.height()));
@@ -190,7 +190,8 @@ void squarePass(const BitMask& in, int k, int anchor, BitMask& out, MorphologySc
   const int first = -anchor, last = k - 1 - anchor;
   auto& padded = scratch.padded_row;
   auto rows = [&](auto window) {
-    squareRows<kErode, decltype(window)::first, decltype(window)::last>(in, first, last, row_begin, row_end, out, padded);
+    squareRows<kErode, decltype(window)::first, decltype(window)::last>(in, first, last, row_begin, row_end,
+                                                                        out, padded);
   };
   if (first == -1 && last == 1) return rows(Window<-1, 1>());
   if (first == -1 && last == 0) return rows(Window<-1, 0>());

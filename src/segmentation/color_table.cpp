@@ -209,7 +209,8 @@ void writeBlockMap(ByteWriter& w, const cv::Mat& map) {
 cv::Mat readBlockMap(ByteReader& r, std::size_t body_end, const std::string& what) {
   const std::uint32_t rows = r.u32(), cols = r.u32();
   if ((rows == 0) != (cols == 0) || static_cast<std::uint64_t>(rows) * cols > (body_end - r.position()) / 4) {
-    r.fail("inconsistent sizes (" + what + " of " + std::to_string(rows) + " x " + std::to_string(cols) + " blocks)");
+    r.fail("inconsistent sizes (" + what + " of " + std::to_string(rows) + " x " + std::to_string(cols) +
+           " blocks)");
   }
   cv::Mat map(static_cast<int>(rows), static_cast<int>(cols), CV_32FC1);
   for (int y = 0; y < map.rows; ++y) {
@@ -225,9 +226,9 @@ ClassStatistics readClassStatistics(ByteReader& r) {
   st.valid = r.u32();
   st.cells_claimed = r.u32();
   st.cells_assigned = r.u32();
-  for (double* v : {&st.mean_lab.l, &st.mean_lab.a, &st.mean_lab.b, &st.mean_h, &st.thresholds.lab,
-                    &st.thresholds.h, &st.mean_h_valid, &st.var_h, &st.mean_s, &st.var_s, &st.mean_v,
-                    &st.var_v}) {
+  for (double* v :
+       {&st.mean_lab.l, &st.mean_lab.a, &st.mean_lab.b, &st.mean_h, &st.thresholds.lab, &st.thresholds.h,
+        &st.mean_h_valid, &st.var_h, &st.mean_s, &st.var_s, &st.mean_v, &st.var_v}) {
     *v = r.f64();
   }
   return st;
@@ -235,7 +236,8 @@ ClassStatistics readClassStatistics(ByteReader& r) {
 
 }  // namespace
 
-std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size, const ColorSamples& samples) {
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
+                                                                  const ColorSamples& samples) {
   std::map<ColorClass, std::vector<cv::Point>> out;
   cv::Mat1b taken(image_size);
   for (const auto& [color, polygons] : samples) {
@@ -285,7 +287,9 @@ ClassThresholds ColorTableParams::thresholds(ColorClass c) const {
 }
 
 void ColorTableParams::validate() const {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("colour table parameters: " + what); };
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("colour table parameters: " + what);
+  };
   if (h_bins < 1 || h_bins > 720) fail("h_bins must be in 1..720, got " + std::to_string(h_bins));
   if (s_bins < 1 || s_bins > 256) fail("s_bins must be in 1..256, got " + std::to_string(s_bins));
   if (v_bins < 1 || v_bins > 256) fail("v_bins must be in 1..256, got " + std::to_string(v_bins));
@@ -324,7 +328,8 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
   return buildFromSamplePixels(as_taken, params);
 }
 
-ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params) {
+ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples,
+                                             const ColorTableParams& params) {
   params.validate();
   ColorTable table;
   table.params_ = params;
@@ -366,7 +371,8 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
 
     std::vector<Hsv> valid;
     for (std::size_t i = 0; i < pixels.size(); ++i) {
-      if (labDistance(lab[i], st.mean_lab) < st.thresholds.lab && hueDistance(hsv[i].h, st.mean_h) < st.thresholds.h) {
+      if (labDistance(lab[i], st.mean_lab) < st.thresholds.lab &&
+          hueDistance(hsv[i].h, st.mean_h) < st.thresholds.h) {
         valid.push_back(hsv[i]);
       }
     }
@@ -385,7 +391,8 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));
     for (std::size_t hs = 0; hs < hs_cells; ++hs) {
       if (v_max[hs] < v_min[hs]) continue;
-      for (int vb = table.vBin(v_min[hs] - params.v_margin); vb <= table.vBin(v_max[hs] + params.v_margin); ++vb) {
+      for (int vb = table.vBin(v_min[hs] - params.v_margin); vb <= table.vBin(v_max[hs] + params.v_margin);
+           ++vb) {
         claims[hs * v_bins + vb] |= bit;
         ++st.cells_claimed;
       }
@@ -423,8 +430,10 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
 }
 
 ColorTable ColorTable::withIlluminationLevels(cv::Mat levels) const {
-  if (!levels.empty() && (levels.type() != CV_32FC1 || levels.dims != 2 || !cv::checkRange(levels, true, nullptr, 1e-3, 1e6))) {
-    throw std::invalid_argument("colour table: the illumination levels must be a CV_32FC1 of finite positive levels");
+  if (!levels.empty() &&
+      (levels.type() != CV_32FC1 || levels.dims != 2 || !cv::checkRange(levels, true, nullptr, 1e-3, 1e6))) {
+    throw std::invalid_argument(
+        "colour table: the illumination levels must be a CV_32FC1 of finite positive levels");
   }
   ColorTable table = *this;
   table.illumination_levels_ = levels.empty() ? cv::Mat() : levels.clone();
@@ -432,8 +441,10 @@ ColorTable ColorTable::withIlluminationLevels(cv::Mat levels) const {
 }
 
 ColorTable ColorTable::withIlluminationReference(cv::Mat reference) const {
-  if (!reference.empty() && (reference.type() != CV_32FC1 || reference.dims != 2 || !cv::checkRange(reference))) {
-    throw std::invalid_argument("colour table: the illumination reference must be a CV_32FC1 of finite block means");
+  if (!reference.empty() &&
+      (reference.type() != CV_32FC1 || reference.dims != 2 || !cv::checkRange(reference))) {
+    throw std::invalid_argument(
+        "colour table: the illumination reference must be a CV_32FC1 of finite block means");
   }
   ColorTable table = *this;
   table.illumination_reference_ = reference.empty() ? cv::Mat() : reference.clone();
@@ -477,22 +488,26 @@ void ColorTable::save(const std::string& path) const {
   w.u32(crc32(w.buffer().data(), w.buffer().size()));
 
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(w.buffer().data()), static_cast<std::streamsize>(w.buffer().size()));
+  out.write(reinterpret_cast<const char*>(w.buffer().data()),
+            static_cast<std::streamsize>(w.buffer().size()));
   out.close();
   if (!out) throw std::runtime_error("colour table '" + path + "': cannot write the file");
 }
 
 ColorTable ColorTable::load(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("colour table '" + path + "': cannot open the file (missing or unreadable)");
-  const std::vector<std::uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in)
+    throw std::runtime_error("colour table '" + path + "': cannot open the file (missing or unreadable)");
+  const std::vector<std::uint8_t> data((std::istreambuf_iterator<char>(in)),
+                                       std::istreambuf_iterator<char>());
   ByteReader header(data, 0, data.size(), path);
 
   // Magic, version and size first: they are where every version puts them, and a file of
   // another version must be named as such, not as corrupt.
   if (data.empty()) header.fail("truncated file (empty)");
   const std::size_t magic_bytes = std::min(data.size(), sizeof kMagic);
-  if (std::memcmp(data.data(), kMagic, magic_bytes) != 0) header.fail("not a colour table file (wrong magic)");
+  if (std::memcmp(data.data(), kMagic, magic_bytes) != 0)
+    header.fail("not a colour table file (wrong magic)");
   if (data.size() < kFixedHeader) header.fail("truncated file (" + std::to_string(data.size()) + " bytes)");
   header.take(sizeof kMagic);
   const std::uint32_t version = header.u32();
@@ -502,7 +517,8 @@ ColorTable ColorTable::load(const std::string& path) {
   }
   const std::uint64_t declared = header.u64();
   if (data.size() < declared) {
-    header.fail("truncated file (" + std::to_string(data.size()) + " of " + std::to_string(declared) + " bytes)");
+    header.fail("truncated file (" + std::to_string(data.size()) + " of " + std::to_string(declared) +
+                " bytes)");
   }
   if (data.size() > declared || declared < kFixedHeader + kChecksumBytes) {
     header.fail("inconsistent sizes (file has " + std::to_string(data.size()) + " bytes, header declares " +
@@ -515,7 +531,8 @@ ColorTable ColorTable::load(const std::string& path) {
 
   ByteReader r(data, kFixedHeader, body_end, path);
   if (r.u32() != static_cast<std::uint32_t>(kNumColorClasses)) {
-    r.fail("inconsistent sizes (class count differs from this build's " + std::to_string(kNumColorClasses) + ")");
+    r.fail("inconsistent sizes (class count differs from this build's " + std::to_string(kNumColorClasses) +
+           ")");
   }
   ColorTable table;
   ColorTableParams& p = table.params_;
@@ -544,19 +561,21 @@ ColorTable ColorTable::load(const std::string& path) {
   const std::uint64_t n_cells = r.u64();
   const std::uint64_t expected = static_cast<std::uint64_t>(p.h_bins) * p.s_bins * p.v_bins;
   if (n_cells != expected) {
-    r.fail("inconsistent sizes (" + std::to_string(n_cells) + " cells for " + std::to_string(p.h_bins) + " x " +
-           std::to_string(p.s_bins) + " x " + std::to_string(p.v_bins) + " bins)");
+    r.fail("inconsistent sizes (" + std::to_string(n_cells) + " cells for " + std::to_string(p.h_bins) +
+           " x " + std::to_string(p.s_bins) + " x " + std::to_string(p.v_bins) + " bins)");
   }
   const std::uint8_t* cells = r.take(n_cells);
   table.cells_.resize(n_cells);
   for (std::size_t i = 0; i < n_cells; ++i) {
-    if (cells[i] >= kNumColorClasses) r.fail("inconsistent content (cell " + std::to_string(i) + " has no class)");
+    if (cells[i] >= kNumColorClasses)
+      r.fail("inconsistent content (cell " + std::to_string(i) + " has no class)");
     table.cells_[i] = static_cast<ColorClass>(cells[i]);
   }
   table.illumination_reference_ = readBlockMap(r, body_end, "illumination reference");
   if (version >= 3) {
     table.illumination_levels_ = readBlockMap(r, body_end, "illumination levels");
-    if (!table.illumination_levels_.empty() && !cv::checkRange(table.illumination_levels_, true, nullptr, 1e-3, 1e6)) {
+    if (!table.illumination_levels_.empty() &&
+        !cv::checkRange(table.illumination_levels_, true, nullptr, 1e-3, 1e6)) {
       r.fail("inconsistent content (illumination levels are not positive)");
     }
   }

@@ -61,7 +61,8 @@ void checkBlockMap(const cv::Mat& map, const BlockGrid& grid, const char* what) 
 
 void checkSelection(const cv::Mat1b& selected, const BlockGrid& grid, const char* what) {
   if (!selected.empty() && selected.size() != cv::Size(grid.cols, grid.rows)) {
-    throw std::invalid_argument(std::string(what) + ": the block selection must be of the image's block grid");
+    throw std::invalid_argument(std::string(what) +
+                                ": the block selection must be of the image's block grid");
   }
 }
 
@@ -109,7 +110,8 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step, co
       std::uint32_t sum = 0;
       for (const LabelRow& row : rows) {
         for (int i = bx * block * row.step; i < x1 * row.step; i += sample_step * row.step) {
-          sum += static_cast<std::uint32_t>(std::max({int(row.b[i]), (row.g1[i] + row.g2[i] + 1) >> 1, int(row.r[i])}));
+          sum += static_cast<std::uint32_t>(
+              std::max({int(row.b[i]), (row.g1[i] + row.g2[i] + 1) >> 1, int(row.r[i])}));
         }
       }
       const int width = x1 - bx * block;
@@ -119,7 +121,6 @@ cv::Mat blockMeanV(const cv::Mat& image, PixelLayout layout, int sample_step, co
   }
   return means;
 }
-
 
 cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step,
                          const cv::Mat1b& selected) {
@@ -190,10 +191,12 @@ cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat
       clean.clear();
       any.clear();
       if (!wanted || wanted[bx]) {
-        for (int j = std::max(0, by - kLevelNeighbourhood); j <= std::min(grid.rows - 1, by + kLevelNeighbourhood); ++j) {
+        for (int j = std::max(0, by - kLevelNeighbourhood);
+             j <= std::min(grid.rows - 1, by + kLevelNeighbourhood); ++j) {
           const std::uint8_t* mj = measured.ptr<std::uint8_t>(j);
           const float* rj = ratio.ptr<float>(j);
-          for (int i = std::max(0, bx - kLevelNeighbourhood); i <= std::min(grid.cols - 1, bx + kLevelNeighbourhood); ++i) {
+          for (int i = std::max(0, bx - kLevelNeighbourhood);
+               i <= std::min(grid.cols - 1, bx + kLevelNeighbourhood); ++i) {
             if (mj[i] == 2) clean.push_back(rj[i]);
             if (mj[i]) any.push_back(rj[i]);
           }
@@ -228,7 +231,8 @@ cv::Mat expectedLightLevels(const cv::Mat& image, PixelLayout layout) {
     for (int bx = 0; bx < grid.cols; ++bx) {
       values.clear();
       for (int j = std::max(0, by - radius); j <= std::min(grid.rows - 1, by + radius); ++j) {
-        for (int i = std::max(0, bx - radius); i <= std::min(grid.cols - 1, bx + radius); ++i) values.push_back(medians(j, i));
+        for (int i = std::max(0, bx - radius); i <= std::min(grid.cols - 1, bx + radius); ++i)
+          values.push_back(medians(j, i));
       }
       expected(by, bx) = std::max(median(values), 1.0f);  // a black image still has a positive level
     }
@@ -236,7 +240,8 @@ cv::Mat expectedLightLevels(const cv::Mat& image, PixelLayout layout) {
   return std::move(expected);
 }
 
-IlluminationAdaptation IlluminationAdaptation::fromImages(const std::vector<cv::Mat>& images, PixelLayout layout) {
+IlluminationAdaptation IlluminationAdaptation::fromImages(const std::vector<cv::Mat>& images,
+                                                          PixelLayout layout) {
   if (images.empty()) throw std::invalid_argument("illumination reference: no images");
   cv::Mat sum, level_sum;
   for (const cv::Mat& image : images) {
@@ -258,7 +263,8 @@ IlluminationAdaptation IlluminationAdaptation::fromImages(const std::vector<cv::
 BlockOffsets IlluminationAdaptation::gainsFor(const cv::Mat& levels) const {
   if (levels_.empty()) return {};
   if (levels.type() != CV_32FC1 || levels.size() != levels_.size()) {
-    throw std::invalid_argument("illumination gains: levels must be a CV_32FC1 of the reference's block grid");
+    throw std::invalid_argument(
+        "illumination gains: levels must be a CV_32FC1 of the reference's block grid");
   }
   const double mean_level = mean_level_;
   BlockOffsets out;
@@ -268,8 +274,8 @@ BlockOffsets IlluminationAdaptation::gainsFor(const cv::Mat& levels) const {
     std::uint16_t* gain = out.gains.ptr<std::uint16_t>(y);
     for (int x = 0; x < levels.cols; ++x) {
       const double g = ColorTable::kUnitGain * mean_level / std::max(level[x], 1e-3f);
-      gain[x] = static_cast<std::uint16_t>(
-          std::clamp<long>(roundPositive(std::min(g, 1e6)), ColorTable::kUnitGain / 8, 8 * ColorTable::kUnitGain));
+      gain[x] = static_cast<std::uint16_t>(std::clamp<long>(
+          roundPositive(std::min(g, 1e6)), ColorTable::kUnitGain / 8, 8 * ColorTable::kUnitGain));
     }
   }
   return out;
@@ -297,8 +303,8 @@ cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout 
   return blockLightLevels(image, layout, levels_ * global, sample_step, selected);
 }
 
-BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
-                                             int max_offset, bool* size_mismatch,
+BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout layout, double k,
+                                             int sample_step, int max_offset, bool* size_mismatch,
                                              const std::vector<cv::Rect>* windows) const {
   if (max_offset < 0 || max_offset > 255) {
     throw std::invalid_argument("illumination offsets: max_offset must be in 0..255 (beyond, V saturates)");
@@ -318,8 +324,9 @@ BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout l
   return gainsFor(k == 0.0 ? levels_ : currentLevels(image, layout, sample_step, selected));
 }
 
-BlockOffsets IlluminationAdaptation::paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
-                                                  int max_offset, const cv::Mat1b& selected) const {
+BlockOffsets IlluminationAdaptation::paperOffsets(const cv::Mat& image, PixelLayout layout, double k,
+                                                  int sample_step, int max_offset,
+                                                  const cv::Mat1b& selected) const {
   if (k == 0.0) return {};
   const cv::Mat now = blockMeanV(image, layout, sample_step, selected);
   BlockOffsets out;

@@ -39,10 +39,10 @@ struct ClassLookup {
   static constexpr int kCubeBits = 8 - kCubeShift;
   static constexpr int kCubeColors = 1 << (3 * kCubeShift);
 
-  std::vector<std::uint32_t> cube_block;       // cube -> block of its colours' column ids
-  std::vector<std::uint16_t> block_columns;    // block * 64 + colour in cube -> column id
-  std::vector<std::uint8_t> column_classes;    // column id * 256 + V' -> ColorClass
-  std::vector<std::uint16_t> cube_classes;     // cube -> ClassMask of its possible classes
+  std::vector<std::uint32_t> cube_block;     // cube -> block of its colours' column ids
+  std::vector<std::uint16_t> block_columns;  // block * 64 + colour in cube -> column id
+  std::vector<std::uint8_t> column_classes;  // column id * 256 + V' -> ColorClass
+  std::vector<std::uint16_t> cube_classes;   // cube -> ClassMask of its possible classes
   // Per class, a bit per coarse cell (3 bits per channel: b >> 5, g >> 5, r >> 5) set where
   // some colour of the cell can take the class: a first test that fits in one register.
   static constexpr int kCoarseShift = 5;
@@ -54,9 +54,12 @@ struct ClassLookup {
   }
   static std::size_t cubeIndex(int b, int g, int r) {
     return (static_cast<std::size_t>(b >> kCubeShift) << (2 * kCubeBits)) |
-           (static_cast<std::size_t>(g >> kCubeShift) << kCubeBits) | static_cast<std::size_t>(r >> kCubeShift);
+           (static_cast<std::size_t>(g >> kCubeShift) << kCubeBits) |
+           static_cast<std::size_t>(r >> kCubeShift);
   }
-  bool mayBeIn(int b, int g, int r, ClassMask classes) const { return cube_classes[cubeIndex(b, g, r)] & classes; }
+  bool mayBeIn(int b, int g, int r, ClassMask classes) const {
+    return cube_classes[cubeIndex(b, g, r)] & classes;
+  }
   // adapted_v in 0..255.
   std::uint8_t classAt(int b, int g, int r, int adapted_v) const {
     const std::size_t block = cube_block[cubeIndex(b, g, r)];
@@ -98,7 +101,8 @@ Columns buildColumns(const ColorTable& table) {
     auto [it, added] = ids.emplace(std::move(bins), static_cast<std::uint16_t>(ids.size()));
     if (added) {
       if (ids.size() > 65536) {
-        throw std::invalid_argument("PixelClassifier: the colour table has more than 65536 distinct V columns");
+        throw std::invalid_argument(
+            "PixelClassifier: the colour table has more than 65536 distinct V columns");
       }
       std::uint16_t mask = 0;
       for (int v = 0; v < ClassLookup::kLevels; ++v) {
@@ -125,7 +129,8 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   for (int max = 0; max < 256; ++max) {
     for (int range = 0; range <= max; ++range) {
       const auto lo = static_cast<std::uint8_t>(max - range);
-      s_bin[max * 256 + range] = static_cast<std::int16_t>(table.sBin(bgrToHsv(static_cast<std::uint8_t>(max), lo, lo).s));
+      s_bin[max * 256 + range] =
+          static_cast<std::int16_t>(table.sBin(bgrToHsv(static_cast<std::uint8_t>(max), lo, lo).s));
     }
   }
   std::vector<std::int16_t> h_bin(3 * 256 * 511, -1);  // [sector][range][difference + 255], lazily
@@ -139,9 +144,11 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
     std::int16_t& hb = h_bin[(sector * 256 + range) * 511 + difference + 255];
     if (hb < 0) {
       hb = static_cast<std::int16_t>(table.hBin(
-          bgrToHsv(static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(r)).h));
+          bgrToHsv(static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(r))
+              .h));
     }
-    return columns.of_hs_cell[static_cast<std::size_t>(hb) * s_bins + static_cast<std::size_t>(s_bin[max * 256 + range])];
+    return columns.of_hs_cell[static_cast<std::size_t>(hb) * s_bins +
+                              static_cast<std::size_t>(s_bin[max * 256 + range])];
   };
 
   constexpr int side = 1 << ClassLookup::kCubeShift, cubes_per_channel = 1 << ClassLookup::kCubeBits;
@@ -152,7 +159,8 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   lookup->cube_classes.resize(lookup->cube_block.size());
   // Blocks 0 .. n_columns - 1: one uniform block per column.
   for (std::size_t c = 0; c < n_columns; ++c) {
-    lookup->block_columns.insert(lookup->block_columns.end(), ClassLookup::kCubeColors, static_cast<std::uint16_t>(c));
+    lookup->block_columns.insert(lookup->block_columns.end(), ClassLookup::kCubeColors,
+                                 static_cast<std::uint16_t>(c));
   }
   std::uint16_t ids[ClassLookup::kCubeColors];
   for (int cb = 0; cb < cubes_per_channel; ++cb) {
@@ -173,15 +181,17 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
         }
         const std::size_t cube = ClassLookup::cubeIndex(b0, g0, r0);
         lookup->cube_classes[cube] = mask;
-        const int coarse = ((b0 >> ClassLookup::kCoarseShift) << 6) | ((g0 >> ClassLookup::kCoarseShift) << 3) |
-                           (r0 >> ClassLookup::kCoarseShift);
+        const int coarse = ((b0 >> ClassLookup::kCoarseShift) << 6) |
+                           ((g0 >> ClassLookup::kCoarseShift) << 3) | (r0 >> ClassLookup::kCoarseShift);
         for (int c = 0; c < kNumColorClasses; ++c) {
-          if (mask & classBit(static_cast<ColorClass>(c))) lookup->coarse_cells[c][coarse >> 6] |= 1ULL << (coarse & 63);
+          if (mask & classBit(static_cast<ColorClass>(c)))
+            lookup->coarse_cells[c][coarse >> 6] |= 1ULL << (coarse & 63);
         }
         if (uniform) {
           lookup->cube_block[cube] = ids[0];
         } else {
-          lookup->cube_block[cube] = static_cast<std::uint32_t>(lookup->block_columns.size() / ClassLookup::kCubeColors);
+          lookup->cube_block[cube] =
+              static_cast<std::uint32_t>(lookup->block_columns.size() / ClassLookup::kCubeColors);
           lookup->block_columns.insert(lookup->block_columns.end(), ids, ids + ClassLookup::kCubeColors);
         }
       }
@@ -210,7 +220,9 @@ struct Pixels {
 
 // Any layout, step known at run time: for the less travelled paths.
 int greenAt(const LabelRow& row, int x) { return (row.g1[x * row.step] + row.g2[x * row.step] + 1) >> 1; }
-int valueAt(const LabelRow& row, int x) { return maxOf(row.b[x * row.step], greenAt(row, x), row.r[x * row.step]); }
+int valueAt(const LabelRow& row, int x) {
+  return maxOf(row.b[x * row.step], greenAt(row, x), row.r[x * row.step]);
+}
 
 }  // namespace
 
@@ -229,7 +241,6 @@ std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding) {
   if (it == layouts.end()) return std::nullopt;
   return it->second;
 }
-
 
 cv::Size labelSize(cv::Size image_size, PixelLayout layout) {
   return isBayer(layout) ? cv::Size(image_size.width / 2, image_size.height / 2) : image_size;
@@ -253,17 +264,17 @@ void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout) {
   }
 }
 
-
 // ---------------------------------------------------------------- PixelClassifier
 
-PixelClassifier::PixelClassifier(std::shared_ptr<const ColorTable> table)
-    : table_(std::move(table)) {
+PixelClassifier::PixelClassifier(std::shared_ptr<const ColorTable> table) : table_(std::move(table)) {
   if (!table_) throw std::invalid_argument("PixelClassifier: no colour table");
   lookup_ = buildLookup(*table_);
 }
 
-ColorClass PixelClassifier::classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset, int v_gain) const {
-  return static_cast<ColorClass>(lookup_->classAt(b, g, r, ColorTable::adjustedV(maxOf(b, g, r), v_offset, v_gain)));
+ColorClass PixelClassifier::classify(std::uint8_t b, std::uint8_t g, std::uint8_t r, int v_offset,
+                                     int v_gain) const {
+  return static_cast<ColorClass>(
+      lookup_->classAt(b, g, r, ColorTable::adjustedV(maxOf(b, g, r), v_offset, v_gain)));
 }
 
 // ---------------------------------------------------------------- FrameClassifier
@@ -283,7 +294,8 @@ FrameClassifier::FrameClassifier(const PixelClassifier& classifier, const cv::Ma
     if (given.type() != type || given.size() != blocks) {
       throw std::invalid_argument(std::string("FrameClassifier: ") + what + " must be " +
                                   (type == CV_16SC1 ? "CV_16SC1" : "CV_16UC1") + " of " +
-                                  std::to_string(blocks.height) + " x " + std::to_string(blocks.width) + " blocks");
+                                  std::to_string(blocks.height) + " x " + std::to_string(blocks.width) +
+                                  " blocks");
     }
     return given;
   };
@@ -294,7 +306,8 @@ FrameClassifier::FrameClassifier(const PixelClassifier& classifier, const cv::Ma
     sharpen_terms_.resize(2 * kMaxLaplacian + 1);
     for (int l = -kMaxLaplacian; l <= kMaxLaplacian; ++l) {
       // Terms beyond ±510 saturate every V: clamping them first keeps lround in range.
-      sharpen_terms_[l + kMaxLaplacian] = static_cast<std::int16_t>(std::lround(std::clamp(sharpen * l, -1000.0, 1000.0)));
+      sharpen_terms_[l + kMaxLaplacian] =
+          static_cast<std::int16_t>(std::lround(std::clamp(sharpen * l, -1000.0, 1000.0)));
     }
   }
 }
@@ -302,8 +315,8 @@ FrameClassifier::FrameClassifier(const PixelClassifier& classifier, const cv::Ma
 cv::Size FrameClassifier::labelSize() const { return label_size_; }
 
 void FrameClassifier::checkRect(const cv::Rect& rect) const {
-  if (rect.x < 0 || rect.y < 0 || rect.width < 0 || rect.height < 0 || rect.x + rect.width > label_size_.width ||
-      rect.y + rect.height > label_size_.height) {
+  if (rect.x < 0 || rect.y < 0 || rect.width < 0 || rect.height < 0 ||
+      rect.x + rect.width > label_size_.width || rect.y + rect.height > label_size_.height) {
     throw std::invalid_argument("FrameClassifier: rect outside the label image");
   }
 }
@@ -365,8 +378,8 @@ struct RowAdjustment {
 
 // Labels of label row `row` for x in [x0, x1).
 template <int Step>
-void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0, int x1,
-                 std::uint8_t* out) {
+void classifyRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0,
+                 int x1, std::uint8_t* out) {
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; ++x) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
@@ -411,8 +424,8 @@ void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const Ro
 // Grid points of a row: most are rejected by their cube, so that path is kept short
 // (pointers in registers, one index step per point).
 template <int Step>
-void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0, int x1,
-             int stride, ClassMask classes, std::vector<cv::Point>& hits) {
+void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0,
+             int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
   const std::uint16_t* cube_classes = lookup.cube_classes.data();
   const std::uint8_t *pb = row.b, *pg1 = row.g1, *pg2 = row.g2, *pr = row.r;
   const std::size_t step = static_cast<std::size_t>(stride) * Step;
@@ -420,7 +433,8 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
   for (int x = x0; x < x1; x += stride, i += step) {
     const unsigned b = pb[i], r = pr[i];
     const unsigned g = Step == 3 ? pg1[i] : (pg1[i] + pg2[i] + 1u) >> 1;  // bgr8/rgb8: one green
-    if (cube_classes[cubeOf(b, g, r)] & classes) checkGridPoint(lookup, adjusted, x, y, b, g, r, classes, hits);
+    if (cube_classes[cubeOf(b, g, r)] & classes)
+      checkGridPoint(lookup, adjusted, x, y, b, g, r, classes, hits);
   }
 }
 
@@ -440,8 +454,12 @@ struct Colours {
 
 SV_AVX512 inline __m512i lowByte(__m512i v) { return _mm512_and_si512(v, _mm512_set1_epi32(0xFF)); }
 // Byte `shift / 8` of each lane.
-SV_AVX512 inline __m512i byteOf(__m512i v, int shift) { return lowByte(_mm512_srlv_epi32(v, _mm512_set1_epi32(shift))); }
-SV_AVX512 inline __mmask16 firstLanes(int n) { return static_cast<__mmask16>(n >= 16 ? 0xFFFF : (1u << n) - 1); }
+SV_AVX512 inline __m512i byteOf(__m512i v, int shift) {
+  return lowByte(_mm512_srlv_epi32(v, _mm512_set1_epi32(shift)));
+}
+SV_AVX512 inline __mmask16 firstLanes(int n) {
+  return static_cast<__mmask16>(n >= 16 ? 0xFFFF : (1u << n) - 1);
+}
 
 // cubeOf per lane.
 SV_AVX512 inline __m512i cubeOf(const Colours& c) {
@@ -476,10 +494,13 @@ SV_AVX512 inline __mmask16 coarseTest(const Colours& c, __m512i cells, __mmask16
 struct TwoLoads {
   __mmask64 low, high;
 };
-inline TwoLoads firstBytes(int n) { return {n >= 64 ? ~0ULL : (1ULL << n) - 1, n > 64 ? ~0ULL >> (128 - n) : 0}; }
+inline TwoLoads firstBytes(int n) {
+  return {n >= 64 ? ~0ULL : (1ULL << n) - 1, n > 64 ? ~0ULL >> (128 - n) : 0};
+}
 // Bytes p[i * span + 0 .. 3] (zero where `bytes_kept` is clear) in lane i, picked from the
 // bytes of `loads` from p on.
-SV_AVX512 inline __m512i pickBytes(const std::uint8_t* p, TwoLoads loads, __m512i index, __mmask64 bytes_kept) {
+SV_AVX512 inline __m512i pickBytes(const std::uint8_t* p, TwoLoads loads, __m512i index,
+                                   __mmask64 bytes_kept) {
   const __m512i low = _mm512_maskz_loadu_epi8(loads.low, p);
   const __m512i high = _mm512_maskz_loadu_epi8(loads.high, p + 64);
   return _mm512_maskz_permutex2var_epi8(bytes_kept, low, index, high);
@@ -489,7 +510,8 @@ SV_AVX512 inline __m512i pickBytes(const std::uint8_t* p, TwoLoads loads, __m512
 // (span <= 41: no carries between the bytes).
 SV_AVX512 inline __m512i spanIndex(int span) {
   const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  return _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)), _mm512_set1_epi32(0x00020100));
+  return _mm512_add_epi32(_mm512_mullo_epi32(lanes, _mm512_set1_epi32(span * 0x01010101)),
+                          _mm512_set1_epi32(0x00020100));
 }
 
 // The colours of the n (<= 16) label pixels x, x + span / Step, .. of a row, one per lane
@@ -515,8 +537,9 @@ SV_AVX512 inline Colours pickColours(const LabelRow& row, int x, int n, int span
 
 // scanRow, as many points at a time as lie in 128 bytes of each channel's row (at most 16).
 template <int Step>
-SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y,
-                             int x0, int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
+SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted,
+                             int y, int x0, int x1, int stride, ClassMask classes,
+                             std::vector<cv::Point>& hits) {
   const int span = Step * stride;  // bytes from one point to the next
   constexpr int kPointBytes = Step == 3 ? 3 : 1;
   const int per_step = std::min(16, (128 - kPointBytes) / span + 1);
@@ -533,8 +556,8 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
       const __mmask16 may = coarseTest(c, cells, firstLanes(n));
       if (!may) continue;
       // The cube test of the rest: cube_classes entries gathered 4 bytes each (the table is padded).
-      const __m512i masks = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cubeOf(c),
-                                                        lookup.cube_classes.data(), 2);
+      const __m512i masks =
+          _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cubeOf(c), lookup.cube_classes.data(), 2);
       unsigned candidates = _mm512_mask_test_epi32_mask(may, masks, wanted);
       while (candidates) {
         const int xi = x + __builtin_ctz(candidates) * stride;
@@ -554,8 +577,9 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
 // three lookups of ClassLookup::classAt as gathers (the tables are padded for their 4-byte
 // reads), the V adjustment of the (at most two) blocks the 16 pixels lie in.
 template <int Step>
-SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted,
-                                 int x0, int x1, ClassMask keep, std::uint8_t* out) {
+SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row,
+                                 const RowAdjustment& adjusted, int x0, int x1, ClassMask keep,
+                                 std::uint8_t* out) {
   constexpr int span = Step;  // bytes from one label pixel to the next
   const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512i index = spanIndex(span);
@@ -572,29 +596,33 @@ SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row,
     __m512i label = zero;
     if (may) {
       const __m512i block = _mm512_mask_i32gather_epi32(zero, may, cube, lookup.cube_block.data(), 4);
-      const __m512i in_cube = _mm512_or_si512(
-          _mm512_or_si512(_mm512_slli_epi32(_mm512_and_si512(c.b, three), 4), _mm512_slli_epi32(_mm512_and_si512(c.g, three), 2)),
-          _mm512_and_si512(c.r, three));
+      const __m512i in_cube =
+          _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_and_si512(c.b, three), 4),
+                                          _mm512_slli_epi32(_mm512_and_si512(c.g, three), 2)),
+                          _mm512_and_si512(c.r, three));
       const __m512i column = _mm512_and_si512(
           _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(block, 6), in_cube),
                                       lookup.block_columns.data(), 2),
           _mm512_set1_epi32(0xFFFF));
       // The block of each pixel: the first one's, or the next one's from where it begins.
       const int first = x >> adjusted.block_shift, last = (x + n - 1) >> adjusted.block_shift;
-      const __mmask16 next = _mm512_cmpgt_epi32_mask(_mm512_srl_epi32(_mm512_add_epi32(_mm512_set1_epi32(x), lanes), shift),
-                                                     _mm512_set1_epi32(first));
+      const __mmask16 next = _mm512_cmpgt_epi32_mask(
+          _mm512_srl_epi32(_mm512_add_epi32(_mm512_set1_epi32(x), lanes), shift), _mm512_set1_epi32(first));
       const __m512i gain = _mm512_mask_blend_epi32(next, _mm512_set1_epi32(adjusted.gains[first]),
                                                    _mm512_set1_epi32(adjusted.gains[last]));
       const __m512i offset = _mm512_mask_blend_epi32(next, _mm512_set1_epi32(adjusted.offsets[first]),
                                                      _mm512_set1_epi32(adjusted.offsets[last]));
       const __m512i v = _mm512_max_epi32(_mm512_max_epi32(c.b, c.g), c.r);
-      const __m512i scaled = _mm512_srli_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v, gain), _mm512_set1_epi32(128)), 8);
+      const __m512i scaled =
+          _mm512_srli_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v, gain), _mm512_set1_epi32(128)), 8);
       const __m512i level =
           _mm512_min_epi32(_mm512_max_epi32(_mm512_add_epi32(scaled, offset), zero), _mm512_set1_epi32(255));
-      label = _mm512_and_si512(_mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(column, 8), level),
-                                                           lookup.column_classes.data(), 1),
-                               _mm512_set1_epi32(0xFF));
-      const __mmask16 kept = _mm512_mask_test_epi32_mask(may, _mm512_sllv_epi32(_mm512_set1_epi32(1), label), wanted);
+      label = _mm512_and_si512(
+          _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(column, 8), level),
+                                      lookup.column_classes.data(), 1),
+          _mm512_set1_epi32(0xFF));
+      const __mmask16 kept =
+          _mm512_mask_test_epi32_mask(may, _mm512_sllv_epi32(_mm512_set1_epi32(1), label), wanted);
       label = _mm512_maskz_mov_epi32(kept, label);
     }
     _mm_mask_storeu_epi8(out + (x - x0), live, _mm512_cvtepi32_epi8(label));
@@ -619,7 +647,8 @@ void prefetchLabelRow(const cv::Mat& image, PixelLayout layout, int y, int x0, i
 }
 
 RowAdjustment rowAdjustment(const cv::Mat& offsets, const cv::Mat& gains, int block_shift, int y) {
-  return {offsets.ptr<std::int16_t>(y >> block_shift), gains.ptr<std::uint16_t>(y >> block_shift), block_shift};
+  return {offsets.ptr<std::int16_t>(y >> block_shift), gains.ptr<std::uint16_t>(y >> block_shift),
+          block_shift};
 }
 
 }  // namespace
@@ -661,7 +690,8 @@ void FrameClassifier::classifySharpened(const cv::Rect& rect, cv::Mat& out, Clas
   std::vector<int> v(static_cast<std::size_t>(w) * (rect.height + 2));
   for (int j = 0; j < rect.height + 2; ++j) {
     const LabelRow row = labelRow(image_, layout_, std::clamp(rect.y - 1 + j, 0, label_size_.height - 1));
-    for (int i = 0; i < w; ++i) v[j * w + i] = valueAt(row, std::clamp(rect.x - 1 + i, 0, label_size_.width - 1));
+    for (int i = 0; i < w; ++i)
+      v[j * w + i] = valueAt(row, std::clamp(rect.x - 1 + i, 0, label_size_.width - 1));
   }
   const ClassLookup& lookup = *classifier_.lookup_;
   const std::int16_t* terms = sharpen_terms_.data() + kMaxLaplacian;

@@ -60,17 +60,17 @@ struct Area {
 // Scratch buffers, reused from frame to frame (an extractor is used by one thread).
 struct RegionScratch {
   std::vector<cv::Point> hits;
-  std::vector<cv::Rect> scanned;                // the search windows in the image
-  std::vector<std::pair<int, int>> spans;       // of the scan: the windows' union in a row or column
-  std::vector<int> edges;                       // of the scan: the windows' top and bottom rows
+  std::vector<cv::Rect> scanned;           // the search windows in the image
+  std::vector<std::pair<int, int>> spans;  // of the scan: the windows' union in a row or column
+  std::vector<int> edges;                  // of the scan: the windows' top and bottom rows
   std::vector<std::pair<cv::Rect, std::uint8_t>> area_hits;  // seed box in the core, class
-  cv::Mat patch;                    // labels of the patch around a hit
-  std::vector<std::uint8_t> pending;  // per hit: its opening test is left to its area
-  std::vector<std::uint8_t> tiles;    // per tile: 2 = within reach of a kept hit (after tileAreas)
-  std::vector<std::uint8_t> labelled; // per tile: its labels are written in this frame
+  cv::Mat patch;                                             // labels of the patch around a hit
+  std::vector<std::uint8_t> pending;                         // per hit: its opening test is left to its area
+  std::vector<std::uint8_t> tiles;     // per tile: 2 = within reach of a kept hit (after tileAreas)
+  std::vector<std::uint8_t> labelled;  // per tile: its labels are written in this frame
   std::vector<int> tile_stack;
   std::vector<Area> areas;
-  cv::Mat labels;                  // label image of the frame, valid inside the `labelled` tiles only
+  cv::Mat labels;  // label image of the frame, valid inside the `labelled` tiles only
   BitMask mask;
   MorphologyScratch morphology;
   std::array<RunLengthComponents, kNumColorClasses> components;  // of the area being done, per class
@@ -138,12 +138,13 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
         }
       } else {
         frame.scanGrid(cv::Rect(x0, band_begin, x1 - x0, band_end - band_begin), stride, classes, s.hits);
-        looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride) * multiplesIn(band_begin, band_end, stride));
+        looked_up += static_cast<std::uint32_t>(multiplesIn(x0, x1, stride) *
+                                                multiplesIn(band_begin, band_end, stride));
       }
     }
   }
   if (checkerboard) return looked_up;  // every domino in the image holds a checkerboard point
-  bool corner_scanned = false;  // the last column's scan holds (width - 1, height - 1)
+  bool corner_scanned = false;         // the last column's scan holds (width - 1, height - 1)
   if ((image.width - 1) % stride != 0) {
     spans.clear();
     for (const cv::Rect& r : rects) {
@@ -159,7 +160,8 @@ std::uint32_t scanUnion(const FrameClassifier& frame, const std::vector<cv::Rect
   if ((image.height - 1) % stride != 0) {
     spans.clear();
     for (const cv::Rect& r : rects) {
-      if (r.br().y == image.height) spans.emplace_back(r.x, r.br().x - (corner_scanned && r.br().x == image.width ? 1 : 0));
+      if (r.br().y == image.height)
+        spans.emplace_back(r.x, r.br().x - (corner_scanned && r.br().x == image.width ? 1 : 0));
     }
     mergeSpans(spans);
     for (const auto& [x0, x1] : spans) {
@@ -206,8 +208,10 @@ bool inOpenedWindow(const LabelAt& label, const cv::Rect& image, cv::Point g, in
 template <typename LabelAt>
 bool inPair(const LabelAt& label, const cv::Rect& image, cv::Point g) {
   const std::uint8_t color = label(g.x, g.y);
-  return (g.x > 0 && label(g.x - 1, g.y) == color) || (g.x + 1 < image.width && label(g.x + 1, g.y) == color) ||
-         (g.y > 0 && label(g.x, g.y - 1) == color) || (g.y + 1 < image.height && label(g.x, g.y + 1) == color);
+  return (g.x > 0 && label(g.x - 1, g.y) == color) ||
+         (g.x + 1 < image.width && label(g.x + 1, g.y) == color) ||
+         (g.y > 0 && label(g.x, g.y - 1) == color) ||
+         (g.y + 1 < image.height && label(g.x, g.y + 1) == color);
 }
 
 // What a grid hit must show to be kept: a k x k window of its class (the opening, or k = 1:
@@ -231,7 +235,8 @@ bool survivesRule(const FrameClassifier& frame, const cv::Rect& image, cv::Point
   const cv::Rect inside = cv::Rect(g.x - reach, g.y - reach, 2 * reach + 1, 2 * reach + 1) & image;
   frame.classify(inside, patch, classes);
   classified += static_cast<std::uint32_t>(inside.area());
-  return rule.passes([&](int x, int y) { return patch.at<std::uint8_t>(y - inside.y, x - inside.x); }, image, g);
+  return rule.passes([&](int x, int y) { return patch.at<std::uint8_t>(y - inside.y, x - inside.x); }, image,
+                     g);
 }
 
 cv::Rect grownBy(const cv::Rect& r, int margin, const cv::Rect& image) {
@@ -289,7 +294,8 @@ void tileAreas(const std::vector<cv::Point>& hits, int tile, int reach, const cv
   for (const cv::Point& g : hits) {
     const cv::Rect box = grownBy(seedBox(g, image), reach, image);
     for (int ty = box.y / tile; ty <= (box.br().y - 1) / tile; ++ty) {
-      for (int tx = box.x / tile; tx <= (box.br().x - 1) / tile; ++tx) s.tiles[static_cast<std::size_t>(ty) * tiles_x + tx] = 1;
+      for (int tx = box.x / tile; tx <= (box.br().x - 1) / tile; ++tx)
+        s.tiles[static_cast<std::size_t>(ty) * tiles_x + tx] = 1;
     }
   }
   s.areas.clear();
@@ -324,14 +330,13 @@ void tileAreas(const std::vector<cv::Point>& hits, int tile, int reach, const cv
 // Labels of `rect`, a view into the frame's label image, written tile by tile, each tile
 // once per frame however often its areas grow or merge. With morphology (`only_marked`)
 // only the tiles within reach of a kept hit (tileAreas' 2s) or of unscanned pixels are
-// classified; the others are written as None. That changes no region: the erosion finds the k x k squares of a
-// class, each holds a kept hit within reach of all its pixels, so every such square lies
-// in classified tiles, and a square that is all of a class here is classified, so one in
-// truth too: the erosion is unchanged (inside the margin), and all that follows depends on
-// it only. Packed robots' tile groups fill about half of their bounding boxes: in the
-// crowd (32 robots) 61k instead of 112k pixels classified.
-cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int tile, int reach, bool only_marked,
-                         ClassMask classes, Scratch& s, std::uint32_t& classified) {
+// classified; the others are written as None. That changes no region: the erosion finds the k x k squares of
+// a class, each holds a kept hit within reach of all its pixels, so every such square lies in classified
+// tiles, and a square that is all of a class here is classified, so one in truth too: the erosion is
+// unchanged (inside the margin), and all that follows depends on it only. Packed robots' tile groups fill
+// about half of their bounding boxes: in the crowd (32 robots) 61k instead of 112k pixels classified.
+cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int tile, int reach,
+                         bool only_marked, ClassMask classes, Scratch& s, std::uint32_t& classified) {
   const cv::Rect image(cv::Point(0, 0), s.labels.size());
   const int tiles_x = (image.width + tile - 1) / tile;
   const int tx_begin = rect.x / tile, tx_end = (rect.br().x - 1) / tile + 1;
@@ -364,7 +369,8 @@ cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int
         frame.classify(run, out, classes);
         classified += static_cast<std::uint32_t>(run.area());
       } else {
-        for (int y = run.y; y < run.br().y; ++y) std::fill_n(s.labels.ptr<std::uint8_t>(y) + run.x, run.width, 0);
+        for (int y = run.y; y < run.br().y; ++y)
+          std::fill_n(s.labels.ptr<std::uint8_t>(y) + run.x, run.width, 0);
       }
       tx = end;
     }
@@ -378,11 +384,10 @@ RegionExtractor::RegionExtractor(const RegionParams& params)
     : params_(params), scratch_(std::make_shared<RegionScratch>()) {
   const RegionParams& p = params_;
   if (p.morph_kernel < 0 || p.morph_kernel > kMaxKernel) {
-    throw std::invalid_argument("RegionParams: morph_kernel must be in 0.." + std::to_string(kMaxKernel) + ", got " +
-                                std::to_string(p.morph_kernel));
+    throw std::invalid_argument("RegionParams: morph_kernel must be in 0.." + std::to_string(kMaxKernel) +
+                                ", got " + std::to_string(p.morph_kernel));
   }
   if (p.tile_size < 1) throw std::invalid_argument("RegionParams: tile_size must be >= 1");
-
 }
 
 void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv::Rect>& windows,
@@ -413,7 +418,9 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   stats.grid_points += scanUnion(frame, s.scanned, stride, rule.pair, image, params_.classes, s);
   // In raster order (the scan goes band by band and span by span, and appends the last column
   // and row), so that each area finds its hits by rows instead of testing every hit.
-  const auto raster = [](const cv::Point& a, const cv::Point& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; };
+  const auto raster = [](const cv::Point& a, const cv::Point& b) {
+    return a.y != b.y ? a.y < b.y : a.x < b.x;
+  };
   if (!std::is_sorted(s.hits.begin(), s.hits.end(), raster)) std::sort(s.hits.begin(), s.hits.end(), raster);
   // Hits that do not survive the opening are dropped (colour noise then costs a few
   // pixels per hit, not a tile). One surviving hit makes its tile part of an area, whose
@@ -427,7 +434,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     for (const cv::Point& g : s.hits) {
       std::uint8_t& needed = s.tiles[static_cast<std::size_t>(g.y / tile) * tiles_x + g.x / tile];
       const bool pending = needed != 0;
-      if (!pending && !survivesRule(frame, image, g, rule, params_.classes, s.patch, stats.classified_pixels)) continue;
+      if (!pending && !survivesRule(frame, image, g, rule, params_.classes, s.patch, stats.classified_pixels))
+        continue;
       needed = 1;
       s.hits[kept] = g;
       s.pending.push_back(pending);
@@ -453,7 +461,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     area.regions.clear();
     const cv::Rect core = area.core;
     const cv::Rect outer = grownBy(core, margin, image);
-    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), morphology, params_.classes, s, stats.classified_pixels);
+    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), morphology, params_.classes, s,
+                                            stats.classified_pixels);
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();
     ClassMask present = 0;
@@ -462,13 +471,14 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     // test of x.
     const auto first_row = std::lower_bound(s.hits.begin(), s.hits.end(), core.y,
                                             [](const cv::Point& p, int y) { return p.y < y; });
-    for (auto h = static_cast<std::size_t>(first_row - s.hits.begin()); h < s.hits.size() && s.hits[h].y < core.br().y;
-         ++h) {
+    for (auto h = static_cast<std::size_t>(first_row - s.hits.begin());
+         h < s.hits.size() && s.hits[h].y < core.br().y; ++h) {
       const cv::Point g = s.hits[h];
       if (g.x < core.x || g.x >= core.br().x) continue;
       const cv::Rect seeds = seedBox(g, image);
       // A pending hit's patch g ± reach lies in `outer` (tileAreas' reach, plus the margin).
-      if (s.pending[h] && !rule.passes([&](int x, int y) { return s.labels.at<std::uint8_t>(y, x); }, image, g)) {
+      if (s.pending[h] &&
+          !rule.passes([&](int x, int y) { return s.labels.at<std::uint8_t>(y, x); }, image, g)) {
         continue;
       }
       const std::uint8_t c = labels.at<std::uint8_t>(g - outer.tl());
@@ -507,7 +517,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
         const unsigned touched = innerSidesTouched(component.bbox + core.tl(), core, image);
         // A region already larger than max_area is dropped whatever lies outside.
         if (touched && pixels <= params_.max_area) grow |= touched;
-        if (pixels >= params_.min_area && pixels <= params_.max_area) s.found.push_back({c, static_cast<int>(label)});
+        if (pixels >= params_.min_area && pixels <= params_.max_area)
+          s.found.push_back({c, static_cast<int>(label)});
       }
       stats.regions_ms += msSince(since);
     }
@@ -523,9 +534,9 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
       r.color = static_cast<ColorClass>(c);
       r.area = component.area;
       r.bbox = component.bbox + core.tl();
-      const bool weighted =
-          params_.coverage_weighted_moments &&
-          coverageMoments(frame, components.runsBegin(label), components.runsEnd(label), core.tl(), image, s.coverage, r);
+      const bool weighted = params_.coverage_weighted_moments &&
+                            coverageMoments(frame, components.runsBegin(label), components.runsEnd(label),
+                                            core.tl(), image, s.coverage, r);
       if (!weighted) writeBinaryMoments(component, core.tl(), r);
       area.regions.push_back(r);
     }

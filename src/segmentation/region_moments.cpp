@@ -30,7 +30,8 @@ inline std::uint64_t shifted(const std::uint64_t* row, int words, int i, int k) 
 
 // Bits [lo, hi) of a word (0 <= lo < hi <= 64).
 inline std::uint64_t bitRange(int lo, int hi) {
-  return (hi == kWordBits ? ~std::uint64_t{0} : (std::uint64_t{1} << hi) - 1) & ~((std::uint64_t{1} << lo) - 1);
+  return (hi == kWordBits ? ~std::uint64_t{0} : (std::uint64_t{1} << hi) - 1) &
+         ~((std::uint64_t{1} << lo) - 1);
 }
 
 // Bits [begin, end) (begin < end) of a row.
@@ -45,7 +46,11 @@ struct MomentSums {
   double w = 0, x = 0, y = 0, xx = 0, xy = 0, yy = 0;
   MomentSums() = default;
   explicit MomentSums(const ComponentStats& c)
-      : w(c.area), x(double(c.sum_x)), y(double(c.sum_y)), xx(double(c.sum_xx)), xy(double(c.sum_xy)),
+      : w(c.area),
+        x(double(c.sum_x)),
+        y(double(c.sum_y)),
+        xx(double(c.sum_xx)),
+        xy(double(c.sum_xy)),
         yy(double(c.sum_yy)) {}
   void add(double px, double py, double weight) {
     w += weight;
@@ -87,8 +92,9 @@ inline void copyRing(const LabelRow& row, int x, int length, std::array<std::int
 
 // The colours of the `length` region pixels of `row` from `x`, written to the columns
 // `out` and added to `sum`, and to `interior_sum` where bit k of `interior` is set.
-inline void copyRegion(const LabelRow& row, int x, int length, std::uint64_t interior, std::array<std::int32_t*, 3> out,
-                       std::array<int, 3>& sum, std::array<int, 3>& interior_sum) {
+inline void copyRegion(const LabelRow& row, int x, int length, std::uint64_t interior,
+                       std::array<std::int32_t*, 3> out, std::array<int, 3>& sum,
+                       std::array<int, 3>& interior_sum) {
   for (int k = 0; k < length; ++k) {
     const std::array<int, 3> color = colorAt(row, static_cast<std::ptrdiff_t>(x + k) * row.step);
     const int mask = -static_cast<int>(interior >> k & 1);
@@ -104,8 +110,8 @@ inline void copyRegion(const LabelRow& row, int x, int length, std::uint64_t int
 // not 1: the opening cuts the corners of a rectangle, and partly covered pixels there lie
 // two pixels from the region (a 16x6 px tag: 0.10 px / 0.57 deg error with a one-pixel
 // ring, 0.03 px / 0.24 deg with two). `s.member` marks the region (BitRows of bbox).
-bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const cv::Rect& image, CoverageScratch& s,
-                     Region& r) {
+bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const cv::Rect& image,
+                     CoverageScratch& s, Region& r) {
   const BitRows bits(bbox);
   const int words = bits.words;
   // Ring: within kRing px (chessboard) of the region, not in it; separable dilation of
@@ -146,26 +152,30 @@ bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
     const std::uint64_t* member = s.member.data() + bits.at(y);
     for (int i = 0; i < words; ++i) {
       // The image's columns of this word: bits x_begin + kRing .. x_end + kRing - 1.
-      const int lo = std::max(x_begin + kRing - i * kWordBits, 0), hi = std::min(x_end + kRing - i * kWordBits, kWordBits);
+      const int lo = std::max(x_begin + kRing - i * kWordBits, 0),
+                hi = std::min(x_end + kRing - i * kWordBits, kWordBits);
       if (lo >= hi) continue;
       std::uint64_t todo = 0;
       for (int d = -kRing; d <= kRing; ++d) todo |= near_in_row[i + static_cast<std::ptrdiff_t>(d) * words];
       todo &= bitRange(lo, hi);
       const std::uint64_t ring_bits = todo & ~member[i];
       // Interior: the member and its 4 neighbours.
-      const std::uint64_t interior_bits = member[i] & shifted(member, words, i, 1) & shifted(member, words, i, -1) &
+      const std::uint64_t interior_bits = member[i] & shifted(member, words, i, 1) &
+                                          shifted(member, words, i, -1) &
                                           member[static_cast<std::ptrdiff_t>(i) - words] & member[i + words];
       interior_n += __builtin_popcountll(interior_bits);
       while (todo != 0) {
         const int first = __builtin_ctzll(todo);
         const bool in_ring = ring_bits >> first & 1;
-        const std::uint64_t rest = ~((in_ring ? ring_bits : member[i]) >> first);  // its lowest set bit ends the segment
+        const std::uint64_t rest =
+            ~((in_ring ? ring_bits : member[i]) >> first);  // its lowest set bit ends the segment
         const int length = rest == 0 ? kWordBits : __builtin_ctzll(rest);
         const int x = i * kWordBits + first - kRing;
         segments[segment_n++] = {x, y, length};
         const std::array<std::int32_t*, 3> out = {all[0] + n, all[1] + n, all[2] + n};
         if (in_ring) {
-          copyRing(row, bbox.x + x, length, out, {ring[0] + ring_n, ring[1] + ring_n, ring[2] + ring_n}, ring_sum);
+          copyRing(row, bbox.x + x, length, out, {ring[0] + ring_n, ring[1] + ring_n, ring[2] + ring_n},
+                   ring_sum);
           ring_n += length;
         } else {
           copyRegion(row, bbox.x + x, length, interior_bits >> first, out, region_sum, interior_sum);
@@ -235,8 +245,8 @@ void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Regio
   MomentSums(component).writeTo(r, origin);
 }
 
-bool coverageMoments(const FrameClassifier& frame, const PixelRun* begin, const PixelRun* end, cv::Point origin,
-                     const cv::Rect& image, CoverageScratch& s, Region& r) {
+bool coverageMoments(const FrameClassifier& frame, const PixelRun* begin, const PixelRun* end,
+                     cv::Point origin, const cv::Rect& image, CoverageScratch& s, Region& r) {
   const cv::Rect& bbox = r.bbox;
   const BitRows bits(bbox);
   s.member.assign(bits.size(), 0);

@@ -53,7 +53,8 @@ void RunLengthComponents::compute(const BitMask& mask, const cv::Rect& rect) {
   for (int y = 1; y < rect.height; ++y) {
     int above = row_begin_[static_cast<std::size_t>(y) - 1];
     const int above_end = row_begin_[static_cast<std::size_t>(y)];
-    for (int r = row_begin_[static_cast<std::size_t>(y)]; r < row_begin_[static_cast<std::size_t>(y) + 1]; ++r) {
+    for (int r = row_begin_[static_cast<std::size_t>(y)]; r < row_begin_[static_cast<std::size_t>(y) + 1];
+         ++r) {
       const PixelRun& run = runs_[static_cast<std::size_t>(r)];
       while (above < above_end && runs_[static_cast<std::size_t>(above)].x_end < run.x_begin) ++above;
       for (int a = above; a < above_end && runs_[static_cast<std::size_t>(a)].x_begin <= run.x_end; ++a) {
@@ -93,16 +94,19 @@ void RunLengthComponents::compute(const BitMask& mask, const cv::Rect& rect) {
 
   // Runs grouped by component (a counting sort keeps the raster order within each).
   component_begin_.assign(components_.size() + 1, 0);
-  for (std::size_t c = 0; c < components_.size(); ++c) component_begin_[c + 1] = component_begin_[c] + counts[c];
+  for (std::size_t c = 0; c < components_.size(); ++c)
+    component_begin_[c + 1] = component_begin_[c] + counts[c];
   std::vector<int> next(component_begin_.begin(), component_begin_.end() - 1);
   runs_by_component_.resize(runs_.size());
-  for (const PixelRun& run : runs_) runs_by_component_[static_cast<std::size_t>(next[static_cast<std::size_t>(run.component)]++)] = run;
+  for (const PixelRun& run : runs_)
+    runs_by_component_[static_cast<std::size_t>(next[static_cast<std::size_t>(run.component)]++)] = run;
 }
 
 int RunLengthComponents::componentAt(int x, int y) const {
   const auto begin = runs_.begin() + row_begin_[static_cast<std::size_t>(y)];
   const auto end = runs_.begin() + row_begin_[static_cast<std::size_t>(y) + 1];
-  const auto after = std::upper_bound(begin, end, x, [](int px, const PixelRun& r) { return px < r.x_begin; });
+  const auto after =
+      std::upper_bound(begin, end, x, [](int px, const PixelRun& r) { return px < r.x_begin; });
   if (after == begin) return -1;
   const PixelRun& run = *(after - 1);
   return x < run.x_end ? run.component : -1;

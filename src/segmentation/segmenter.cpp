@@ -1,8 +1,8 @@
 #include "soccer_vision/segmentation/segmenter.h"
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 
 #include "soccer_vision/common/class_colors.h"
 
@@ -35,7 +35,8 @@ void toImageCoordinates(Region& r) {
 
 }  // namespace
 
-std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(std::shared_ptr<const ColorTable> table) {
+std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(
+    std::shared_ptr<const ColorTable> table) {
   auto model = std::make_shared<SegmentationModel>();
   model->illumination = IlluminationAdaptation(table->illuminationReference(), table->illuminationLevels());
   model->classifier = std::make_shared<PixelClassifier>(std::move(table));
@@ -52,7 +53,8 @@ RegionParams labelParams(const RegionParams& p, int label_width) {
   // k / 2) they are 100 %. Bayer quads at 1280 px are the 640 px case: 2 is 2.4x faster (a
   // stride-2 grid) but opens away the partly covered edge quads of the small tags: 96.4 %
   // of robots and 6 mm RMSE instead of 99.7 % and 3 mm.
-  if (r < kKeepKernelRatio) q.morph_kernel = p.morph_kernel > 1 ? std::max(1, p.morph_kernel / 2) : p.morph_kernel;
+  if (r < kKeepKernelRatio)
+    q.morph_kernel = p.morph_kernel > 1 ? std::max(1, p.morph_kernel / 2) : p.morph_kernel;
   // Without the opening, regions must still hold two adjacent pixels of their class
   // (require_pair): every marker does, single noise pixels (the most common false
   // regions of Bayer quads) do not, and the scan reads a checkerboard, half the pixels.
@@ -97,10 +99,10 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   // only what the caller asked for with no windows at all.
   out.global_search = windows.empty();
 
-  const BlockOffsets offsets = model.illumination.offsets(
-      image, layout, params_.illumination_k, params_.illumination_sample_step,
-      params_.max_illumination_offset, &out.illumination_size_mismatch,
-      out.global_search ? nullptr : &out.windows);
+  const BlockOffsets offsets =
+      model.illumination.offsets(image, layout, params_.illumination_k, params_.illumination_sample_step,
+                                 params_.max_illumination_offset, &out.illumination_size_mismatch,
+                                 out.global_search ? nullptr : &out.windows);
   out.timings.illumination_ms = msSince(start);
 
   const FrameClassifier frame(*model.classifier, image, layout, offsets, params_.sharpen);
@@ -123,9 +125,8 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
 
 cv::Mat classifyAll(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
                     const SegmentationParams& params) {
-  const BlockOffsets offsets = model.illumination.offsets(image, layout, params.illumination_k,
-                                                          params.illumination_sample_step,
-                                                          params.max_illumination_offset);
+  const BlockOffsets offsets = model.illumination.offsets(
+      image, layout, params.illumination_k, params.illumination_sample_step, params.max_illumination_offset);
   const FrameClassifier frame(*model.classifier, image, layout, offsets, params.sharpen);
   const cv::Size size = frame.labelSize();
   cv::Mat labels(size, CV_8UC1);

@@ -38,8 +38,7 @@ double markerDistance(const MarkerShape& m, double x, double y) {
 }
 
 // The spot of the robot top farthest from every marker and from the rim.
-Eigen::Vector2d clearestTopSpot(const std::vector<ColoredMarker>& markers, double radius,
-                                double& clearance) {
+Eigen::Vector2d clearestTopSpot(const std::vector<ColoredMarker>& markers, double radius, double& clearance) {
   clearance = -1;
   Eigen::Vector2d best(0, 0);
   for (double x = -radius; x <= radius; x += 0.0025) {
@@ -75,7 +74,9 @@ class PolygonProjector {
 };
 
 std::vector<Eigen::Vector3d> square(double cx, double cy, double half, double z) {
-  return {{cx - half, cy - half, z}, {cx + half, cy - half, z}, {cx + half, cy + half, z},
+  return {{cx - half, cy - half, z},
+          {cx + half, cy - half, z},
+          {cx + half, cy + half, z},
           {cx - half, cy + half, z}};
 }
 
@@ -106,7 +107,8 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
     const auto markers = patterns.markers(r.team, r.id);
     for (const auto& m : markers) {
       std::vector<Eigen::Vector3d> pts;
-      for (const auto& q : outline(m.shape, options.shrink)) pts.push_back(robotToField(r, q.x(), q.y(), z_top));
+      for (const auto& q : outline(m.shape, options.shrink))
+        pts.push_back(robotToField(r, q.x(), q.y(), z_top));
       if (projector.project(pts, poly)) samples[m.color].push_back(poly);
     }
     double clearance = 0;
@@ -136,8 +138,10 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
   // Carpet: 10 cm squares on a coarse grid, away from lines, robots and balls.
   const double keep_out = 0.25, half = 0.05;
   int carpet = 0;
-  for (double x = -field.halfLength() + 0.4; x < field.halfLength() && carpet < options.carpet_patches; x += 0.83) {
-    for (double y = -field.halfWidth() + 0.4; y < field.halfWidth() && carpet < options.carpet_patches; y += 0.97) {
+  for (double x = -field.halfLength() + 0.4; x < field.halfLength() && carpet < options.carpet_patches;
+       x += 0.83) {
+    for (double y = -field.halfWidth() + 0.4; y < field.halfWidth() && carpet < options.carpet_patches;
+         y += 0.97) {
       bool clear = distanceToLines({x, y}, field) > half + 0.05;
       for (const auto& r : scene.robots) clear = clear && std::hypot(r.x - x, r.y - y) > keep_out;
       for (const auto& b : scene.balls) clear = clear && std::hypot(b.x - x, b.y - y) > keep_out;
@@ -156,8 +160,9 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
     for (const auto& r : scene.robots) clear = clear && (Eigen::Vector2d(r.x, r.y) - mid).norm() > 0.4;
     const double hl = 0.15, hw = 0.25 * field.line_width;
     std::vector<Eigen::Vector3d> pts;
-    for (const Eigen::Vector2d& c : {Eigen::Vector2d(mid - hl * dir - hw * n), Eigen::Vector2d(mid + hl * dir - hw * n),
-                                    Eigen::Vector2d(mid + hl * dir + hw * n), Eigen::Vector2d(mid - hl * dir + hw * n)}) {
+    for (const Eigen::Vector2d& c :
+         {Eigen::Vector2d(mid - hl * dir - hw * n), Eigen::Vector2d(mid + hl * dir - hw * n),
+          Eigen::Vector2d(mid + hl * dir + hw * n), Eigen::Vector2d(mid - hl * dir + hw * n)}) {
       pts.emplace_back(c.x(), c.y(), 0.0);
     }
     if (clear && projector.project(pts, poly)) samples[ColorClass::Line].push_back(poly);
@@ -165,8 +170,7 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
   return samples;
 }
 
-std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera,
-                                                      const FieldGeometry& field,
+std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera, const FieldGeometry& field,
                                                       double image_margin) {
   std::vector<FieldCorrespondence> out;
   for (const auto& p : field.landmarks()) {

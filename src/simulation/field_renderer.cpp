@@ -11,18 +11,16 @@ namespace soccer_vision {
 
 namespace {
 
-constexpr double kBallRadius = 0.0215;         // m
-constexpr int kNoiseMargin = 32;               // px: the noise plane is shifted per frame
-constexpr double kBoundsMargin = 0.01;         // m around objects when bounding them
-constexpr int kBoundsPoints = 24;              // samples of a circle when bounding it
+constexpr double kBallRadius = 0.0215;  // m
+constexpr int kNoiseMargin = 32;        // px: the noise plane is shifted per frame
+constexpr double kBoundsMargin = 0.01;  // m around objects when bounding them
+constexpr int kBoundsPoints = 24;       // samples of a circle when bounding it
 
 const cv::Vec3f kRobotSide = albedoFromRgb(12, 12, 12);  // darker than the top: lit from above
 
 // Fraction of a pixel inside a shape, from the signed distance of the pixel centre
 // (negative inside) and the pixel's footprint: exact for a straight edge.
-inline float coverage(float sdf, float footprint) {
-  return std::clamp(0.5f - sdf / footprint, 0.f, 1.f);
-}
+inline float coverage(float sdf, float footprint) { return std::clamp(0.5f - sdf / footprint, 0.f, 1.f); }
 
 // Signed distance to an axis-aligned box of half extents (hx, hy) centred at the origin.
 inline float boxSdf(float x, float y, float hx, float hy) {
@@ -58,8 +56,8 @@ struct RobotLook {
 // One object of one (sub-)frame, in the painter's order of drawing.
 struct Drawable {
   bool is_robot;
-  std::size_t index;   // into SceneState::robots or ::balls
-  cv::Rect box;        // image pixels it may touch
+  std::size_t index;      // into SceneState::robots or ::balls
+  cv::Rect box;           // image pixels it may touch
   double nadir_distance;  // horizontal distance from the camera: far ones are drawn first
 };
 
@@ -76,24 +74,30 @@ struct FieldRenderer::Impl {
   ScenarioConfig scenario;
   IlluminationModel illumination;
   int width, height;
-  Eigen::Vector3d centre;          // camera centre in `field`
+  Eigen::Vector3d centre;  // camera centre in `field`
   Eigen::Isometry3d camera_T_field;
-  double fold_radius = HUGE_VAL;   // normalised radius where the distortion folds back
+  double fold_radius = HUGE_VAL;  // normalised radius where the distortion folds back
   std::string encoding = "bgr8";
   std::array<std::array<int, 2>, 2> bayer_channel{};  // [row & 1][col & 1] -> B/G/R index
   bool bayer = false;
 
-  cv::Mat ground;            // CV_32FC2: where each pixel's ray meets z = 0
-  cv::Mat footprint;         // CV_32F: side of the pixel's footprint on z = 0, m
-  cv::Mat gain;              // CV_32F: spatial illumination gain
-  cv::Mat lit_background;    // CV_32FC3: background albedo * gain
-  cv::Mat background_labels; // CV_8U: ColorClass
-  cv::Mat noise;             // CV_32FC3, kNoiseMargin larger; empty when noise is off
+  cv::Mat ground;             // CV_32FC2: where each pixel's ray meets z = 0
+  cv::Mat footprint;          // CV_32F: side of the pixel's footprint on z = 0, m
+  cv::Mat gain;               // CV_32F: spatial illumination gain
+  cv::Mat lit_background;     // CV_32FC3: background albedo * gain
+  cv::Mat background_labels;  // CV_8U: ColorClass
+  cv::Mat noise;              // CV_32FC3, kNoiseMargin larger; empty when noise is off
 
   Impl(const CameraModel& cam, const FieldGeometry& f, const PatternSet& p, const ScenarioConfig& s)
-      : camera(cam), field(f), patterns(p), scenario(s),
-        illumination(s.lighting, f, s.seed), width(cam.width()), height(cam.height()),
-        centre(cam.cameraCentre()), camera_T_field(cam.fieldTCamera().inverse()) {
+      : camera(cam),
+        field(f),
+        patterns(p),
+        scenario(s),
+        illumination(s.lighting, f, s.seed),
+        width(cam.width()),
+        height(cam.height()),
+        centre(cam.cameraCentre()),
+        camera_T_field(cam.fieldTCamera().inverse()) {
     parseBayer();
     findFoldRadius();
     buildRayMaps();
@@ -186,7 +190,7 @@ struct FieldRenderer::Impl {
         const float on_line = coverage(static_cast<float>(line_sdf - half_line), fp[u]);
         gn[u] = static_cast<float>(illumination.spatialGain(p.x(), p.y()));
         lit[u] = gn[u] * (floor * (1 - on_carpet) + on_carpet * (carpet * (1 - on_line) + line * on_line));
-        label[u] = static_cast<std::uint8_t>(on_carpet < 0.5f ? ColorClass::None
+        label[u] = static_cast<std::uint8_t>(on_carpet < 0.5f  ? ColorClass::None
                                              : on_line >= 0.5f ? ColorClass::Line
                                                                : ColorClass::Carpet);
       }
@@ -238,7 +242,8 @@ struct FieldRenderer::Impl {
     }
     for (std::size_t i = 0; i < scene.balls.size(); ++i) {
       const BallState& b = scene.balls[i];
-      out.push_back({false, i, boundCircles(b.x, b.y, kBallRadius, {b.z - kBallRadius, b.z, b.z + kBallRadius}),
+      out.push_back({false, i,
+                     boundCircles(b.x, b.y, kBallRadius, {b.z - kBallRadius, b.z, b.z + kBallRadius}),
                      std::hypot(b.x - centre.x(), b.y - centre.y())});
     }
     std::stable_sort(out.begin(), out.end(), [](const Drawable& a, const Drawable& b) {
@@ -248,8 +253,12 @@ struct FieldRenderer::Impl {
   }
 
   RobotLook look(const RobotState& r) const {
-    RobotLook l{static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(std::cos(r.theta)),
-                static_cast<float>(std::sin(r.theta)), patterns.markers(r.team, r.id), {}};
+    RobotLook l{static_cast<float>(r.x),
+                static_cast<float>(r.y),
+                static_cast<float>(std::cos(r.theta)),
+                static_cast<float>(std::sin(r.theta)),
+                patterns.markers(r.team, r.id),
+                {}};
     for (const ColoredMarker& m : l.markers) l.albedo.push_back(classAlbedo(m.color));
     return l;
   }
@@ -299,7 +308,8 @@ struct FieldRenderer::Impl {
           float painted = 0;
           cv::Vec3f paint(0, 0, 0);
           for (std::size_t k = 0; k < l.markers.size(); ++k) {
-            const float c = coverage(markerSdf(l.markers[k].shape, ray.local_x, ray.local_y), ray.footprint_top);
+            const float c =
+                coverage(markerSdf(l.markers[k].shape, ray.local_x, ray.local_y), ray.footprint_top);
             painted += c;
             paint += c * l.albedo[k];
           }
@@ -359,7 +369,8 @@ struct FieldRenderer::Impl {
 
   void labelBall(const BallState& b, const cv::Rect& area, cv::Mat& labels) const {
     traceBall(b, area, [&](int u, int v, float distance, float) {
-      if (distance <= kBallRadius) labels.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(ColorClass::Orange);
+      if (distance <= kBallRadius)
+        labels.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(ColorClass::Orange);
     });
   }
 
@@ -400,7 +411,8 @@ struct FieldRenderer::Impl {
     std::vector<std::vector<Drawable>> items;
     for (int k = 0; k < samples; ++k) {
       // Evenly over the exposure: their mean is shownTimeAfterStamp().
-      states.push_back(samples == 1 ? scene : extrapolate(scene, scenario.sensor.exposure * (k + 0.5) / samples));
+      states.push_back(samples == 1 ? scene
+                                    : extrapolate(scene, scenario.sensor.exposure * (k + 0.5) / samples));
       items.push_back(drawables(states.back()));
     }
     std::vector<cv::Rect> regions;
@@ -509,7 +521,8 @@ bool FieldRenderer::robotVisible(const RobotState& robot) const {
           if (!inside(shape.x + sx * shape.size_x, shape.y + sy * shape.size_y)) return false;
     } else {
       for (int k = 0; k < 8; ++k)
-        if (!inside(shape.x + shape.radius * std::cos(k * M_PI / 4), shape.y + shape.radius * std::sin(k * M_PI / 4)))
+        if (!inside(shape.x + shape.radius * std::cos(k * M_PI / 4),
+                    shape.y + shape.radius * std::sin(k * M_PI / 4)))
           return false;
     }
   }
@@ -519,8 +532,9 @@ bool FieldRenderer::robotVisible(const RobotState& robot) const {
 bool FieldRenderer::ballVisible(const BallState& ball) const {
   const Impl& m = *impl_;
   const double r = kBallRadius;
-  for (const Eigen::Vector3d& offset : {Eigen::Vector3d(r, 0, 0), Eigen::Vector3d(-r, 0, 0), Eigen::Vector3d(0, r, 0),
-                                        Eigen::Vector3d(0, -r, 0), Eigen::Vector3d(0, 0, r)}) {
+  for (const Eigen::Vector3d& offset :
+       {Eigen::Vector3d(r, 0, 0), Eigen::Vector3d(-r, 0, 0), Eigen::Vector3d(0, r, 0),
+        Eigen::Vector3d(0, -r, 0), Eigen::Vector3d(0, 0, r)}) {
     const auto px = m.projectForBounds(Eigen::Vector3d(ball.x, ball.y, ball.z) + offset);
     if (!px || !m.camera.inImage(*px)) return false;
   }

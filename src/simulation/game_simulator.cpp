@@ -33,8 +33,7 @@ Eigen::Vector2d clampNorm(const Eigen::Vector2d& v, double limit) {
 
 }  // namespace
 
-GameSimulator::GameSimulator(const ScenarioConfig& scenario, const FieldGeometry& field,
-                             int max_ids)
+GameSimulator::GameSimulator(const ScenarioConfig& scenario, const FieldGeometry& field, int max_ids)
     : scenario_(scenario), field_(field), rng_(scenario.seed) {
   const MotionConfig& m = scenario_.motion;
   const double r = robot_radius_;
@@ -51,8 +50,7 @@ GameSimulator::GameSimulator(const ScenarioConfig& scenario, const FieldGeometry
       bool free = false;
       while (!free) {
         if (++tries > kPlacementTries)
-          throw std::runtime_error("GameSimulator: cannot place " +
-                                   std::to_string(state_.robots.size() + 1) +
+          throw std::runtime_error("GameSimulator: cannot place " + std::to_string(state_.robots.size() + 1) +
                                    " robots without overlap in the motion area");
         robot.x = uniform(m.area_x_min + r, m.area_x_max - r);
         robot.y = uniform(m.area_y_min + r, m.area_y_max - r);
@@ -150,8 +148,8 @@ void GameSimulator::moveRobots(double dt) {
     }
     const double dist = to_target.norm();
     const double speed = std::min(v_max, std::sqrt(2 * m.robot_max_accel * dist));
-    Eigen::Vector2d desired = dist > 1e-9 ? Eigen::Vector2d(to_target * (speed / dist))
-                                          : Eigen::Vector2d::Zero();
+    Eigen::Vector2d desired =
+        dist > 1e-9 ? Eigen::Vector2d(to_target * (speed / dist)) : Eigen::Vector2d::Zero();
     for (std::size_t j = 0; j < n; ++j) {
       if (j == i) continue;
       const Eigen::Vector2d away = pos(i) - pos(j);
@@ -216,8 +214,8 @@ void GameSimulator::moveRobots(double dt) {
 
 void GameSimulator::kickBall() {
   const MotionConfig& m = scenario_.motion;
-  BallState& ball = state_.balls[static_cast<std::size_t>(
-      uniform(0, static_cast<double>(state_.balls.size()) - 1e-9))];
+  BallState& ball =
+      state_.balls[static_cast<std::size_t>(uniform(0, static_cast<double>(state_.balls.size()) - 1e-9))];
   const double aim_x = uniform(m.area_x_min, m.area_x_max);
   const double aim_y = uniform(m.area_y_min, m.area_y_max);
   double angle = std::atan2(aim_y - ball.y, aim_x - ball.x);

@@ -74,31 +74,51 @@ ScenarioConfig parseScenario(const std::string& yaml_text, const std::string& so
   auto& c = s.sensor;
   auto& m = s.motion;
   MapReader(root, "", source)
-      .field("name", s.name).field("seed", s.seed).field("fps", s.fps)
-      .field("width", s.width).field("height", s.height).field("pattern", s.pattern)
-      .field("blue_robots", s.blue_robots).field("yellow_robots", s.yellow_robots)
+      .field("name", s.name)
+      .field("seed", s.seed)
+      .field("fps", s.fps)
+      .field("width", s.width)
+      .field("height", s.height)
+      .field("pattern", s.pattern)
+      .field("blue_robots", s.blue_robots)
+      .field("yellow_robots", s.yellow_robots)
       .field("balls", s.balls)
-      .section("lighting", [&](const YAML::Node& n) {
-        MapReader(n, "lighting.", source)
-            .field("brightness", l.brightness).field("uneven_ratio", l.uneven_ratio)
-            .field("drift_amplitude", l.drift_amplitude).field("drift_period", l.drift_period)
-            .field("flicker", l.flicker).read();
-      })
-      .section("sensor", [&](const YAML::Node& n) {
-        MapReader(n, "sensor.", source)
-            .field("noise_sigma", c.noise_sigma).field("exposure", c.exposure)
-            .field("blur_samples", c.blur_samples).field("bayer", c.bayer)
-            .field("jpeg_quality", c.jpeg_quality).read();
-      })
-      .section("motion", [&](const YAML::Node& n) {
-        MapReader(n, "motion.", source)
-            .field("robot_max_speed", m.robot_max_speed).field("robot_max_accel", m.robot_max_accel)
-            .field("robot_max_omega", m.robot_max_omega).field("ball_max_speed", m.ball_max_speed)
-            .field("ball_friction", m.ball_friction).field("kick_interval", m.kick_interval)
-            .field("min_separation", m.min_separation)
-            .field("area_x_min", m.area_x_min).field("area_x_max", m.area_x_max)
-            .field("area_y_min", m.area_y_min).field("area_y_max", m.area_y_max).read();
-      })
+      .section("lighting",
+               [&](const YAML::Node& n) {
+                 MapReader(n, "lighting.", source)
+                     .field("brightness", l.brightness)
+                     .field("uneven_ratio", l.uneven_ratio)
+                     .field("drift_amplitude", l.drift_amplitude)
+                     .field("drift_period", l.drift_period)
+                     .field("flicker", l.flicker)
+                     .read();
+               })
+      .section("sensor",
+               [&](const YAML::Node& n) {
+                 MapReader(n, "sensor.", source)
+                     .field("noise_sigma", c.noise_sigma)
+                     .field("exposure", c.exposure)
+                     .field("blur_samples", c.blur_samples)
+                     .field("bayer", c.bayer)
+                     .field("jpeg_quality", c.jpeg_quality)
+                     .read();
+               })
+      .section("motion",
+               [&](const YAML::Node& n) {
+                 MapReader(n, "motion.", source)
+                     .field("robot_max_speed", m.robot_max_speed)
+                     .field("robot_max_accel", m.robot_max_accel)
+                     .field("robot_max_omega", m.robot_max_omega)
+                     .field("ball_max_speed", m.ball_max_speed)
+                     .field("ball_friction", m.ball_friction)
+                     .field("kick_interval", m.kick_interval)
+                     .field("min_separation", m.min_separation)
+                     .field("area_x_min", m.area_x_min)
+                     .field("area_x_max", m.area_x_max)
+                     .field("area_y_min", m.area_y_min)
+                     .field("area_y_max", m.area_y_max)
+                     .read();
+               })
       .read();
 
   check(s.fps > 0 && s.fps <= 1000, source, "fps must be in (0, 1000]");
@@ -109,23 +129,21 @@ ScenarioConfig parseScenario(const std::string& yaml_text, const std::string& so
   check(l.brightness > 0 && l.uneven_ratio >= 1.0, source,
         "lighting.brightness must be > 0 and lighting.uneven_ratio >= 1");
   check(l.drift_amplitude >= 0 && l.drift_amplitude < 1 && l.flicker >= 0 && l.flicker < 0.5 &&
-            l.drift_period > 0, source, "lighting drift/flicker out of range");
+            l.drift_period > 0,
+        source, "lighting drift/flicker out of range");
   check(c.noise_sigma >= 0 && c.exposure >= 0 && c.blur_samples >= 1, source,
         "sensor.noise_sigma/exposure must be >= 0 and sensor.blur_samples >= 1");
-  check(c.bayer.empty() || c.bayer == "rggb" || c.bayer == "bggr" || c.bayer == "gbrg" ||
-            c.bayer == "grbg", source, "sensor.bayer must be one of rggb, bggr, gbrg, grbg");
+  check(c.bayer.empty() || c.bayer == "rggb" || c.bayer == "bggr" || c.bayer == "gbrg" || c.bayer == "grbg",
+        source, "sensor.bayer must be one of rggb, bggr, gbrg, grbg");
   check(c.jpeg_quality >= 0 && c.jpeg_quality <= 100, source, "sensor.jpeg_quality must be 0..100");
   check(m.robot_max_speed >= 0 && m.robot_max_speed <= 5.0, source,
         "motion.robot_max_speed must be in [0, 5] m/s");
   check(m.ball_max_speed >= 0 && m.ball_max_speed <= 15.0, source,
         "motion.ball_max_speed must be in [0, 15] m/s");
-  check(m.area_x_min < m.area_x_max && m.area_y_min < m.area_y_max, source,
-        "motion area is empty");
+  check(m.area_x_min < m.area_x_max && m.area_y_min < m.area_y_max, source, "motion area is empty");
   return s;
 }
 
-ScenarioConfig loadScenario(const std::string& path) {
-  return parseScenario(readTextFile(path), path);
-}
+ScenarioConfig loadScenario(const std::string& path) { return parseScenario(readTextFile(path), path); }
 
 }  // namespace soccer_vision

@@ -24,11 +24,20 @@ struct PixelFormatName {
   const char* encoding;
 };
 constexpr PixelFormatName kPixelFormats[] = {
-    {"Mono8", "mono8"},           {"Mono16", "mono16"},         {"RGB8", "rgb8"},
-    {"RGB8Packed", "rgb8"},       {"BGR8", "bgr8"},             {"BGR8Packed", "bgr8"},
-    {"BayerRG8", "bayer_rggb8"},  {"BayerBG8", "bayer_bggr8"},  {"BayerGB8", "bayer_gbrg8"},
-    {"BayerGR8", "bayer_grbg8"},  {"BayerRG16", "bayer_rggb16"}, {"BayerBG16", "bayer_bggr16"},
-    {"BayerGB16", "bayer_gbrg16"}, {"BayerGR16", "bayer_grbg16"},
+    {"Mono8", "mono8"},
+    {"Mono16", "mono16"},
+    {"RGB8", "rgb8"},
+    {"RGB8Packed", "rgb8"},
+    {"BGR8", "bgr8"},
+    {"BGR8Packed", "bgr8"},
+    {"BayerRG8", "bayer_rggb8"},
+    {"BayerBG8", "bayer_bggr8"},
+    {"BayerGB8", "bayer_gbrg8"},
+    {"BayerGR8", "bayer_grbg8"},
+    {"BayerRG16", "bayer_rggb16"},
+    {"BayerBG16", "bayer_bggr16"},
+    {"BayerGB16", "bayer_gbrg16"},
+    {"BayerGR16", "bayer_grbg16"},
 };
 
 // Takes ownership of a GError: its message, or `fallback`.
@@ -40,15 +49,24 @@ std::string takeError(GError*& e, const std::string& fallback = "unknown error")
 
 const char* bufferStatusName(ArvBufferStatus s) {
   switch (s) {
-    case ARV_BUFFER_STATUS_SUCCESS: return "success";
-    case ARV_BUFFER_STATUS_CLEARED: return "cleared";
-    case ARV_BUFFER_STATUS_TIMEOUT: return "timeout";
-    case ARV_BUFFER_STATUS_MISSING_PACKETS: return "missing packets";
-    case ARV_BUFFER_STATUS_WRONG_PACKET_ID: return "wrong packet id";
-    case ARV_BUFFER_STATUS_SIZE_MISMATCH: return "size mismatch (packet_size?)";
-    case ARV_BUFFER_STATUS_FILLING: return "filling";
-    case ARV_BUFFER_STATUS_ABORTED: return "aborted";
-    default: return "failed";
+    case ARV_BUFFER_STATUS_SUCCESS:
+      return "success";
+    case ARV_BUFFER_STATUS_CLEARED:
+      return "cleared";
+    case ARV_BUFFER_STATUS_TIMEOUT:
+      return "timeout";
+    case ARV_BUFFER_STATUS_MISSING_PACKETS:
+      return "missing packets";
+    case ARV_BUFFER_STATUS_WRONG_PACKET_ID:
+      return "wrong packet id";
+    case ARV_BUFFER_STATUS_SIZE_MISMATCH:
+      return "size mismatch (packet_size?)";
+    case ARV_BUFFER_STATUS_FILLING:
+      return "filling";
+    case ARV_BUFFER_STATUS_ABORTED:
+      return "aborted";
+    default:
+      return "failed";
   }
 }
 
@@ -104,13 +122,10 @@ struct AravisSource::Impl {
   std::uint64_t incomplete = 0, lost_count = 0;
   std::string last_apply_error;
 
-  static void onControlLost(ArvDevice*, gpointer self) {
-    static_cast<Impl*>(self)->control_lost = true;
-  }
+  static void onControlLost(ArvDevice*, gpointer self) { static_cast<Impl*>(self)->control_lost = true; }
 
   void release() {
-    if (camera && stream && !control_lost && !unresponsive)
-      arv_camera_stop_acquisition(camera, nullptr);
+    if (camera && stream && !control_lost && !unresponsive) arv_camera_stop_acquisition(camera, nullptr);
     if (stream) {
       g_object_unref(stream);
       stream = nullptr;
@@ -239,8 +254,7 @@ OpenResult AravisSource::open(const FrameSourceOptions& options) {
   d.camera = arv_camera_new(name.empty() ? nullptr : name.c_str(), &e);
   if (!d.camera) return fail("not found (" + takeError(e) + ")");
   ArvDevice* device = arv_camera_get_device(d.camera);
-  d.lost_handler =
-      g_signal_connect(device, "control-lost", G_CALLBACK(&Impl::onControlLost), &d);
+  d.lost_handler = g_signal_connect(device, "control-lost", G_CALLBACK(&Impl::onControlLost), &d);
 
   arv_camera_stop_acquisition(d.camera, nullptr);  // a previous run may have left it running
   arv_camera_set_acquisition_mode(d.camera, ARV_ACQUISITION_MODE_CONTINUOUS, &e);
@@ -256,8 +270,7 @@ OpenResult AravisSource::open(const FrameSourceOptions& options) {
       for (guint i = 0; names && i < n; ++i)
         available += std::string(available.empty() ? "" : ", ") + names[i];
       g_free(names);
-      return fail("pixel format '" + pixel_format + "' not available (camera offers " +
-                  available + ")");
+      return fail("pixel format '" + pixel_format + "' not available (camera offers " + available + ")");
     }
   }
   const char* current_format = arv_camera_get_pixel_format_as_string(d.camera, &e);
@@ -274,32 +287,35 @@ OpenResult AravisSource::open(const FrameSourceOptions& options) {
     if (e) return fail("cannot read the region (" + takeError(e) + ")");
     arv_camera_set_region(d.camera, 0, 0, options.width > 0 ? options.width : w,
                           options.height > 0 ? options.height : h, &e);
-    if (e) return fail("region " + std::to_string(options.width) + "x" +
-                       std::to_string(options.height) + " refused (" + takeError(e) + ")");
+    if (e)
+      return fail("region " + std::to_string(options.width) + "x" + std::to_string(options.height) +
+                  " refused (" + takeError(e) + ")");
   }
   gint x, y, width, height;
   arv_camera_get_region(d.camera, &x, &y, &width, &height, &e);
   if (e) return fail("cannot read the region (" + takeError(e) + ")");
-  if ((options.width > 0 && width != options.width) ||
-      (options.height > 0 && height != options.height))
-    result.warnings.push_back(label + ": region is " + std::to_string(width) + "x" +
-                              std::to_string(height) + ", not the requested " +
-                              std::to_string(options.width) + "x" + std::to_string(options.height));
+  if ((options.width > 0 && width != options.width) || (options.height > 0 && height != options.height))
+    result.warnings.push_back(label + ": region is " + std::to_string(width) + "x" + std::to_string(height) +
+                              ", not the requested " + std::to_string(options.width) + "x" +
+                              std::to_string(options.height));
 
   if (options.fps > 0) {
     if (!arv_camera_is_frame_rate_available(d.camera, nullptr)) {
       result.warnings.push_back(label + " has no frame rate control; fps ignored");
     } else {
       arv_camera_set_frame_rate(d.camera, options.fps, &e);
-      if (e) result.warnings.push_back(label + ": frame rate " + std::to_string(options.fps) +
-                                       " Hz refused (" + takeError(e) + ")");
+      if (e)
+        result.warnings.push_back(label + ": frame rate " + std::to_string(options.fps) + " Hz refused (" +
+                                  takeError(e) + ")");
     }
   }
 
   int packet = 0;
   if (arv_camera_is_gv_device(d.camera)) {
-    if (packet_size > 0) arv_camera_gv_set_packet_size(d.camera, packet_size, &e);
-    else if (packet_size == 0) arv_camera_gv_auto_packet_size(d.camera, &e);
+    if (packet_size > 0)
+      arv_camera_gv_set_packet_size(d.camera, packet_size, &e);
+    else if (packet_size == 0)
+      arv_camera_gv_auto_packet_size(d.camera, &e);
     if (e) result.warnings.push_back(label + ": packet size not set (" + takeError(e) + ")");
     packet = arv_camera_gv_get_packet_size(d.camera, nullptr);
   }
@@ -358,8 +374,7 @@ void AravisSource::close() {
   Impl& d = *impl_;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
-    if (d.open && d.stream)
-      arv_stream_get_statistics(d.stream, &d.completed, &d.failures, &d.underruns);
+    if (d.open && d.stream) arv_stream_get_statistics(d.stream, &d.completed, &d.failures, &d.underruns);
     d.open = false;
   }
   d.release();
@@ -418,8 +433,8 @@ bool AravisSource::setControl(const std::string& name, double value, std::string
   }
   if (!(value >= it->second.first && value <= it->second.second)) {
     std::ostringstream os;
-    os << "control '" << name << "' = " << value << " out of the camera's range ["
-       << it->second.first << ", " << it->second.second << "]";
+    os << "control '" << name << "' = " << value << " out of the camera's range [" << it->second.first << ", "
+       << it->second.second << "]";
     error = os.str();
     return false;
   }
@@ -446,8 +461,7 @@ std::vector<std::pair<std::string, std::string>> AravisSource::statistics() cons
   return s;
 }
 
-GrabStatus AravisSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                              std::string& error) {
+GrabStatus AravisSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) {
   Impl& d = *impl_;
   FrameFormat format;
   {
@@ -461,8 +475,8 @@ GrabStatus AravisSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
   if (d.interrupted) return GrabStatus::Interrupted;
   if (image.data == nullptr || image.rows != format.height || image.cols != format.width ||
       image.type() != format.cv_type) {
-    error = "grab() needs a " + std::to_string(format.width) + "x" +
-            std::to_string(format.height) + " " + format.encoding + " buffer";
+    error = "grab() needs a " + std::to_string(format.width) + "x" + std::to_string(format.height) + " " +
+            format.encoding + " buffer";
     return GrabStatus::Error;
   }
   auto lost = [&] {
@@ -517,9 +531,9 @@ GrabStatus AravisSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
     const int bh = arv_buffer_get_image_height(buffer);
     if (bw != format.width || bh != format.height || !data ||
         size < d.row_bytes * static_cast<std::size_t>(format.height)) {
-      error = "camera " + d.camera_id + " sent a " + std::to_string(bw) + "x" +
-              std::to_string(bh) + " frame of " + std::to_string(size) + " bytes, expected " +
-              std::to_string(format.width) + "x" + std::to_string(format.height);
+      error = "camera " + d.camera_id + " sent a " + std::to_string(bw) + "x" + std::to_string(bh) +
+              " frame of " + std::to_string(size) + " bytes, expected " + std::to_string(format.width) + "x" +
+              std::to_string(format.height);
       result = GrabStatus::Error;
     } else {
       for (int r = 0; r < format.height; ++r)
@@ -535,7 +549,8 @@ GrabStatus AravisSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
       const guint64 id = arv_buffer_get_frame_id(buffer);
       std::uint64_t step = 1;
       if (d.have_frame_id) {
-        if (id > d.last_frame_id && id - d.last_frame_id < 1000) step = id - d.last_frame_id;
+        if (id > d.last_frame_id && id - d.last_frame_id < 1000)
+          step = id - d.last_frame_id;
         else if (id < d.last_frame_id && d.last_frame_id > 65000 && id < 1000)
           step = id + 65535 - d.last_frame_id;
       }

@@ -20,7 +20,8 @@ void FramePacer::start(double fps) {
   last_ = 0;
 }
 
-bool setPacedFps(FramePacer& pacer, bool realtime, const std::string& source_name, double fps, std::string& error) {
+bool setPacedFps(FramePacer& pacer, bool realtime, const std::string& source_name, double fps,
+                 std::string& error) {
   if (!realtime) {
     error = "the " + source_name + " source runs as fast as possible (realtime false): no frame rate to set";
     return false;

@@ -38,11 +38,16 @@ Registry& registry() {
 
 const char* grabStatusName(GrabStatus s) {
   switch (s) {
-    case GrabStatus::Ok: return "ok";
-    case GrabStatus::Timeout: return "timeout";
-    case GrabStatus::Interrupted: return "interrupted";
-    case GrabStatus::EndOfStream: return "end of stream";
-    case GrabStatus::Error: return "error";
+    case GrabStatus::Ok:
+      return "ok";
+    case GrabStatus::Timeout:
+      return "timeout";
+    case GrabStatus::Interrupted:
+      return "interrupted";
+    case GrabStatus::EndOfStream:
+      return "end of stream";
+    case GrabStatus::Error:
+      return "error";
   }
   return "unknown";
 }

@@ -1,14 +1,13 @@
 #include "soccer_vision/sources/images_source.h"
 
-#include <dirent.h>
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cctype>
+#include <dirent.h>
 #include <fstream>
 #include <iterator>
 
 #include <opencv2/imgcodecs.hpp>
+#include <sys/stat.h>
 
 #include "soccer_vision/sources/source_settings.h"
 
@@ -26,10 +25,9 @@ bool hasImageExtension(const std::string& name) {
   if (dot == std::string::npos) return false;
   std::string ext = name.substr(dot + 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  static const char* kExtensions[] = {"png", "jpg", "jpeg", "bmp", "tif", "tiff",
-                                      "pgm", "ppm", "pnm", "webp"};
-  return std::any_of(std::begin(kExtensions), std::end(kExtensions),
-                     [&](const char* e) { return ext == e; });
+  static const char* kExtensions[] = {"png",  "jpg", "jpeg", "bmp", "tif",
+                                      "tiff", "pgm", "ppm",  "pnm", "webp"};
+  return std::any_of(std::begin(kExtensions), std::end(kExtensions), [&](const char* e) { return ext == e; });
 }
 
 bool readFile(const std::string& path, std::vector<unsigned char>& bytes) {
@@ -45,8 +43,7 @@ std::vector<std::string> listImageFiles(const std::string& folder_or_glob) {
   std::vector<std::string> files;
   if (isDirectory(folder_or_glob)) {
     if (DIR* dir = ::opendir(folder_or_glob.c_str())) {
-      const std::string prefix =
-          folder_or_glob.back() == '/' ? folder_or_glob : folder_or_glob + "/";
+      const std::string prefix = folder_or_glob.back() == '/' ? folder_or_glob : folder_or_glob + "/";
       while (const dirent* e = ::readdir(dir)) {
         const std::string name = e->d_name;
         if (name.empty() || name[0] == '.' || !hasImageExtension(name)) continue;
@@ -92,8 +89,8 @@ OpenResult ImagesSource::open(const FrameSourceOptions& options) {
              encoding == "bayer_gbrg8" || encoding == "bayer_grbg8") {
     flags = cv::IMREAD_GRAYSCALE;
   } else {
-    result.error = "images encoding '" + encoding +
-                   "' is not supported (bgr8, mono8, bayer_{rggb,bggr,gbrg,grbg}8)";
+    result.error =
+        "images encoding '" + encoding + "' is not supported (bgr8, mono8, bayer_{rggb,bggr,gbrg,grbg}8)";
     return result;
   }
   if (options.fps < 0 || options.fps > 1000) {
@@ -112,8 +109,8 @@ OpenResult ImagesSource::open(const FrameSourceOptions& options) {
     return result;
   }
   if (encoding.rfind("bayer_", 0) == 0 && (first.cols % 2 != 0 || first.rows % 2 != 0)) {
-    result.error = "Bayer image '" + files.front() + "' has an odd size " +
-                   std::to_string(first.cols) + "x" + std::to_string(first.rows);
+    result.error = "Bayer image '" + files.front() + "' has an odd size " + std::to_string(first.cols) + "x" +
+                   std::to_string(first.rows);
     return result;
   }
   if (options.width > 0 || options.height > 0)
@@ -175,16 +172,15 @@ std::vector<std::pair<std::string, std::string>> ImagesSource::statistics() cons
           {"loops completed", std::to_string(loops_)}};
 }
 
-GrabStatus ImagesSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                              std::string& error) {
+GrabStatus ImagesSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) {
   if (!isOpen()) {
     error = "images source is not open";
     return GrabStatus::Error;
   }
   if (image.data == nullptr || image.rows != format_.height || image.cols != format_.width ||
       image.type() != format_.cv_type) {
-    error = "grab() needs a " + std::to_string(format_.width) + "x" +
-            std::to_string(format_.height) + " " + format_.encoding + " buffer";
+    error = "grab() needs a " + std::to_string(format_.width) + "x" + std::to_string(format_.height) + " " +
+            format_.encoding + " buffer";
     return GrabStatus::Error;
   }
   if (next_ >= files_.size()) {
@@ -195,9 +191,12 @@ GrabStatus ImagesSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
   }
   double stamp = 0;
   switch (pacer_.wait(timeout_s, stamp)) {
-    case FramePacer::Wait::Interrupted: return GrabStatus::Interrupted;
-    case FramePacer::Wait::Timeout: return GrabStatus::Timeout;
-    case FramePacer::Wait::Due: break;
+    case FramePacer::Wait::Interrupted:
+      return GrabStatus::Interrupted;
+    case FramePacer::Wait::Timeout:
+      return GrabStatus::Timeout;
+    case FramePacer::Wait::Due:
+      break;
   }
   const std::string& file = files_[next_++];
   const std::uint64_t sequence = sequence_++;  // a skipped file leaves a gap
@@ -219,9 +218,9 @@ GrabStatus ImagesSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
     return GrabStatus::Error;
   }
   if (decoded.size() != image.size() || decoded.type() != image.type()) {
-    error = "image '" + file + "' is " + std::to_string(decoded.cols) + "x" +
-            std::to_string(decoded.rows) + ", the sequence is " + std::to_string(format_.width) +
-            "x" + std::to_string(format_.height) + "; skipped";
+    error = "image '" + file + "' is " + std::to_string(decoded.cols) + "x" + std::to_string(decoded.rows) +
+            ", the sequence is " + std::to_string(format_.width) + "x" + std::to_string(format_.height) +
+            "; skipped";
     return GrabStatus::Error;
   }
   decoded.copyTo(image);  // same size and type: into the caller's buffer

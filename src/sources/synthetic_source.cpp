@@ -65,8 +65,8 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
   OpenResult result;
 
   if (options.camera_index != 0 && options.camera_index != 1) {
-    result.error = "the synthetic source has cameras 0 and 1 only, not " +
-                   std::to_string(options.camera_index);
+    result.error =
+        "the synthetic source has cameras 0 and 1 only, not " + std::to_string(options.camera_index);
     return result;
   }
   if (options.fps < 0 || options.width < 0 || options.height < 0) {
@@ -79,8 +79,8 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
     try {
       scenario = loadScenario(options.scenario);
     } catch (const std::exception& e) {
-      result.warnings.push_back("scenario '" + options.scenario + "' could not be loaded (" +
-                                e.what() + "); using the embedded default scenario");
+      result.warnings.push_back("scenario '" + options.scenario + "' could not be loaded (" + e.what() +
+                                "); using the embedded default scenario");
       scenario = ScenarioConfig{};
     }
   }
@@ -90,8 +90,8 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
   if (!checkFps(scenario.fps, result.error)) return result;
   if (scenario.width <= 0 || scenario.height <= 0 || scenario.width > kMaxSide ||
       scenario.height > kMaxSide) {
-    result.error = "resolution " + std::to_string(scenario.width) + "x" +
-                   std::to_string(scenario.height) + " out of range";
+    result.error = "resolution " + std::to_string(scenario.width) + "x" + std::to_string(scenario.height) +
+                   " out of range";
     return result;
   }
 
@@ -99,13 +99,12 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
     try {
       patterns_ = patternSetByName(scenario.pattern);
     } catch (const std::exception& e) {
-      result.warnings.push_back("pattern set '" + scenario.pattern + "' could not be loaded (" +
-                                e.what() + "); using the built-in two_tag pattern");
+      result.warnings.push_back("pattern set '" + scenario.pattern + "' could not be loaded (" + e.what() +
+                                "); using the built-in two_tag pattern");
       patterns_ = PatternSet::twoTag();
     }
     field_ = FieldGeometry{};
-    camera_ = CameraModel::defaultCamera(field_, options.camera_index, scenario.width,
-                                         scenario.height);
+    camera_ = CameraModel::defaultCamera(field_, options.camera_index, scenario.width, scenario.height);
     sim_ = std::make_unique<GameSimulator>(scenario, field_, patterns_.maxRobotsPerTeam());
     renderer_ = std::make_unique<FieldRenderer>(camera_, field_, patterns_, scenario);
   } catch (const std::exception& e) {
@@ -206,8 +205,7 @@ bool SyntheticSource::setControl(const std::string& name, double value, std::str
     if (name != c.name) continue;
     if (!(value >= c.min && value <= c.max)) {
       std::ostringstream os;
-      os << "control '" << name << "' = " << value << " out of range [" << c.min << ", "
-         << c.max << "]";
+      os << "control '" << name << "' = " << value << " out of range [" << c.min << ", " << c.max << "]";
       error = os.str();
       return false;
     }
@@ -307,8 +305,7 @@ bool SyntheticSource::waitUntil(double t) {
   return !interrupted_;
 }
 
-GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                                 std::string& error) {
+GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (interrupted_) return GrabStatus::Interrupted;
@@ -319,8 +316,8 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
   }
   if (image.data == nullptr || image.rows != format_.height || image.cols != format_.width ||
       image.type() != format_.cv_type) {
-    error = "grab() needs a " + std::to_string(format_.width) + "x" +
-            std::to_string(format_.height) + " " + format_.encoding + " buffer";
+    error = "grab() needs a " + std::to_string(format_.width) + "x" + std::to_string(format_.height) + " " +
+            format_.encoding + " buffer";
     return GrabStatus::Error;
   }
 

@@ -1,19 +1,19 @@
 #include "soccer_vision/sources/v4l2_source.h"
 
-#include <fcntl.h>
-#include <linux/videodev2.h>
-#include <poll.h>
-#include <sys/eventfd.h>
-#include <sys/ioctl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <ctime>
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <linux/videodev2.h>
+#include <sys/eventfd.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 
 #include "soccer_vision/sources/source_settings.h"
 
@@ -84,8 +84,7 @@ std::vector<V4l2Mode> V4l2Source::enumerateModes(const V4l2Request& request) con
       for (ival.index = 0; xioctl(fd_, VIDIOC_ENUM_FRAMEINTERVALS, &ival) == 0; ++ival.index) {
         if (ival.type == V4L2_FRMIVAL_TYPE_DISCRETE) {
           if (ival.discrete.numerator > 0)
-            mode.fps.push_back(static_cast<double>(ival.discrete.denominator) /
-                               ival.discrete.numerator);
+            mode.fps.push_back(static_cast<double>(ival.discrete.denominator) / ival.discrete.numerator);
         } else {
           const auto& s = ival.stepwise;  // fastest and slowest; S_PARM picks in between
           if (s.min.numerator > 0) mode.fps.push_back(double(s.min.denominator) / s.min.numerator);
@@ -164,8 +163,7 @@ OpenResult V4l2Source::open(const FrameSourceOptions& options) {
   v4l2_capability cap{};
   if (xioctl(fd_, VIDIOC_QUERYCAP, &cap) != 0)
     return fail("not a V4L2 device (VIDIOC_QUERYCAP: " + errnoText() + ")");
-  const std::uint32_t caps =
-      (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+  const std::uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
   if (!(caps & V4L2_CAP_VIDEO_CAPTURE)) return fail("not a video capture device");
   if (!(caps & V4L2_CAP_STREAMING)) return fail("does not support streaming I/O");
   card_ = reinterpret_cast<const char*>(cap.card);
@@ -176,9 +174,9 @@ OpenResult V4l2Source::open(const FrameSourceOptions& options) {
   if (!negotiateV4l2Format(enumerateModes(request), request, choice, error)) return fail(error);
   if (request.width > 0 && (choice.width != request.width || choice.height != request.height))
     result.warnings.push_back(device + " has no " + std::to_string(request.width) + "x" +
-                              std::to_string(request.height) + " " +
-                              v4l2FourccName(choice.fourcc) + "; using " +
-                              std::to_string(choice.width) + "x" + std::to_string(choice.height));
+                              std::to_string(request.height) + " " + v4l2FourccName(choice.fourcc) +
+                              "; using " + std::to_string(choice.width) + "x" +
+                              std::to_string(choice.height));
 
   v4l2_format fmt{};
   fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
@@ -201,13 +199,12 @@ OpenResult V4l2Source::open(const FrameSourceOptions& options) {
     format_.cv_type = cvTypeForEncoding(encoding);
     format_.step = static_cast<std::size_t>(format_.width) * CV_ELEM_SIZE(format_.cv_type);
     if (bytes_per_line_ == 0)  // compressed formats: no rows in the buffer
-      bytes_per_line_ = fourcc_ == V4L2_PIX_FMT_YUYV || fourcc_ == V4L2_PIX_FMT_UYVY
-                            ? 2 * format_.width
-                            : format_.step;
+      bytes_per_line_ =
+          fourcc_ == V4L2_PIX_FMT_YUYV || fourcc_ == V4L2_PIX_FMT_UYVY ? 2 * format_.width : format_.step;
   }
   if (choice.fps > 0 && !applyFps(choice.fps, error))
-    result.warnings.push_back(device + ": frame rate " + std::to_string(choice.fps) +
-                              " Hz not set (" + error + ")");
+    result.warnings.push_back(device + ": frame rate " + std::to_string(choice.fps) + " Hz not set (" +
+                              error + ")");
   if (choice.fps <= 0) applyFps(0, error);  // reads the current rate back
   findControls();
   if (!startStreaming(error)) return fail(error);
@@ -376,8 +373,7 @@ std::optional<double> V4l2Source::control(const std::string& name) const {
 bool V4l2Source::setControl(const std::string& name, double value, std::string& error) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = controls_.find(name);
-  if (it == controls_.end() || fd_ < 0)
-    return FrameSource::setControl(name, value, error);
+  if (it == controls_.end() || fd_ < 0) return FrameSource::setControl(name, value, error);
   const Control& ctl = it->second;
   if (!(value >= ctl.min && value <= ctl.max)) {
     error = "control '" + name + "' = " + std::to_string(value) + " out of the device's range [" +
@@ -411,8 +407,7 @@ std::vector<std::pair<std::string, std::string>> V4l2Source::statistics() const 
           {"corrupt frames", std::to_string(errors_)}};
 }
 
-GrabStatus V4l2Source::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                            std::string& error) {
+GrabStatus V4l2Source::grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) {
   FrameFormat format;
   std::optional<double> new_fps;
   {
@@ -427,8 +422,8 @@ GrabStatus V4l2Source::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
   if (interrupted_) return GrabStatus::Interrupted;
   if (image.data == nullptr || image.rows != format.height || image.cols != format.width ||
       image.type() != format.cv_type) {
-    error = "grab() needs a " + std::to_string(format.width) + "x" +
-            std::to_string(format.height) + " " + format.encoding + " buffer";
+    error = "grab() needs a " + std::to_string(format.width) + "x" + std::to_string(format.height) + " " +
+            format.encoding + " buffer";
     return GrabStatus::Error;
   }
   if (new_fps) {  // most drivers refuse S_PARM while streaming
@@ -444,8 +439,7 @@ GrabStatus V4l2Source::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
   }
 
   pollfd fds[2] = {{fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
-  const int r = ::poll(fds, wake_fd_ >= 0 ? 2 : 1,
-                       static_cast<int>(std::max(0.0, timeout_s) * 1000.0));
+  const int r = ::poll(fds, wake_fd_ >= 0 ? 2 : 1, static_cast<int>(std::max(0.0, timeout_s) * 1000.0));
   if (interrupted_) return GrabStatus::Interrupted;
   if (r == 0) return GrabStatus::Timeout;
   if (r < 0) {
@@ -477,15 +471,13 @@ GrabStatus V4l2Source::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
     ok = false;
   } else {
     cv::Mat target = image;
-    ok = convertV4l2Frame(fourcc_, static_cast<const std::uint8_t*>(buffers_[buf.index].start),
-                          buf.bytesused, format.width, format.height, bytes_per_line_, target,
-                          error);
+    ok = convertV4l2Frame(fourcc_, static_cast<const std::uint8_t*>(buffers_[buf.index].start), buf.bytesused,
+                          format.width, format.height, bytes_per_line_, target, error);
   }
   double stamp = wall_now - stamp_delay_;
   const double driver_stamp =
       static_cast<double>(buf.timestamp.tv_sec) + 1e-6 * static_cast<double>(buf.timestamp.tv_usec);
-  if ((buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC &&
-      driver_stamp > 0) {
+  if ((buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC && driver_stamp > 0) {
     stamp = monotonicToWall(driver_stamp, mono_now, wall_now);
     if ((buf.flags & V4L2_BUF_FLAG_TSTAMP_SRC_MASK) != V4L2_BUF_FLAG_TSTAMP_SRC_SOE)
       stamp -= stamp_delay_;  // end-of-frame stamp

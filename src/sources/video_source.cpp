@@ -1,8 +1,8 @@
 #include "soccer_vision/sources/video_source.h"
 
-#include <sys/stat.h>
-
 #include <cmath>
+
+#include <sys/stat.h>
 
 #include "soccer_vision/sources/source_settings.h"
 
@@ -52,15 +52,17 @@ OpenResult VideoSource::open(const FrameSourceOptions& options) {
     return result;
   }
   if (options.width > 0 || options.height > 0)
-    result.warnings.push_back("the video source does not scale: width/height ignored, frames "
-                              "are the file's " + std::to_string(width) + "x" +
-                              std::to_string(height));
+    result.warnings.push_back(
+        "the video source does not scale: width/height ignored, frames "
+        "are the file's " +
+        std::to_string(width) + "x" + std::to_string(height));
   double file_fps = capture.get(cv::CAP_PROP_FPS);
   if (!std::isfinite(file_fps) || file_fps <= 0 || file_fps > 1000) file_fps = 0;
   double rate = options.fps > 0 ? options.fps : file_fps;
   if (realtime && rate <= 0) {
     rate = 30.0;
-    result.warnings.push_back("video file '" + file + "' has no frame rate; playing at 30 Hz "
+    result.warnings.push_back("video file '" + file +
+                              "' has no frame rate; playing at 30 Hz "
                               "(set fps)");
   }
 
@@ -132,23 +134,25 @@ bool VideoSource::reopenFile(std::string& error) {
   return true;
 }
 
-GrabStatus VideoSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                             std::string& error) {
+GrabStatus VideoSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) {
   if (!isOpen()) {
     error = "video source is not open";
     return GrabStatus::Error;
   }
   if (image.data == nullptr || image.rows != format_.height || image.cols != format_.width ||
       image.type() != format_.cv_type) {
-    error = "grab() needs a " + std::to_string(format_.width) + "x" +
-            std::to_string(format_.height) + " bgr8 buffer";
+    error = "grab() needs a " + std::to_string(format_.width) + "x" + std::to_string(format_.height) +
+            " bgr8 buffer";
     return GrabStatus::Error;
   }
   double stamp = 0;
   switch (pacer_.wait(timeout_s, stamp)) {
-    case FramePacer::Wait::Interrupted: return GrabStatus::Interrupted;
-    case FramePacer::Wait::Timeout: return GrabStatus::Timeout;
-    case FramePacer::Wait::Due: break;
+    case FramePacer::Wait::Interrupted:
+      return GrabStatus::Interrupted;
+    case FramePacer::Wait::Timeout:
+      return GrabStatus::Timeout;
+    case FramePacer::Wait::Due:
+      break;
   }
   cv::Mat target = image;  // a header on the caller's buffer; read() fills it in place
   bool got = capture_.read(target);
@@ -167,8 +171,8 @@ GrabStatus VideoSource::grab(cv::Mat& image, FrameInfo& info, double timeout_s,
     }
   }
   if (target.data != image.data) {
-    error = "video file '" + file_ + "' changed frame size to " + std::to_string(target.cols) +
-            "x" + std::to_string(target.rows) + " (or channels); frame dropped";
+    error = "video file '" + file_ + "' changed frame size to " + std::to_string(target.cols) + "x" +
+            std::to_string(target.rows) + " (or channels); frame dropped";
     return GrabStatus::Error;
   }
   info.stamp = stamp;

@@ -32,11 +32,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "soccer_vision/common/statistics.h"
+#include "soccer_vision/pipeline/vision_pipeline.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
-#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
-#include "soccer_vision/pipeline/vision_pipeline.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -59,14 +59,23 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--scenario") o.scenario_path = value();
-    else if (a == "--frames") o.frames = std::stoi(value());
-    else if (a == "--width") o.width = std::stoi(value());
-    else if (a == "--height") o.height = std::stoi(value());
-    else if (a == "--json") o.json = value();
-    else if (a == "--cold") o.cold = true;
-    else if (a == "--repeat") o.repeat = std::stoi(value());
-    else throw std::invalid_argument("unknown argument '" + a + "' (--scenario, --frames, --width, --height, --cold, --repeat, --json)");
+    if (a == "--scenario")
+      o.scenario_path = value();
+    else if (a == "--frames")
+      o.frames = std::stoi(value());
+    else if (a == "--width")
+      o.width = std::stoi(value());
+    else if (a == "--height")
+      o.height = std::stoi(value());
+    else if (a == "--json")
+      o.json = value();
+    else if (a == "--cold")
+      o.cold = true;
+    else if (a == "--repeat")
+      o.repeat = std::stoi(value());
+    else
+      throw std::invalid_argument("unknown argument '" + a +
+                                  "' (--scenario, --frames, --width, --height, --cold, --repeat, --json)");
   }
   if (o.frames < 10) throw std::invalid_argument("--frames must be >= 10");
   if (o.repeat < 1) throw std::invalid_argument("--repeat must be >= 1");
@@ -75,11 +84,14 @@ Options parse(int argc, char** argv) {
 
 // A preset name is looked up in this source tree's presets; anything else is a path.
 std::string presetPath(const std::string& name) {
-  if (name.empty() || name.find('/') != std::string::npos || name.find(".yaml") != std::string::npos) return name;
+  if (name.empty() || name.find('/') != std::string::npos || name.find(".yaml") != std::string::npos)
+    return name;
   return std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/" + name + ".yaml";
 }
 
-double ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+double ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
 
 }  // namespace
 
@@ -117,7 +129,8 @@ int main(int argc, char** argv) {
     pc.segmentation = model;
     pc.layout = layout;
     const double interval = 1.0 / scenario.fps;
-    const std::vector<std::string> stages = {"preprocessing", "classification", "recognition", "tracking", "total"};
+    const std::vector<std::string> stages = {"preprocessing", "classification", "recognition", "tracking",
+                                             "total"};
     std::map<std::string, std::vector<double>> t;
     for (const std::string& stage : stages) t[stage].assign(static_cast<std::size_t>(o.frames), 1e300);
     std::vector<double> pass_p99;
@@ -139,8 +152,8 @@ int main(int argc, char** argv) {
         const double total = ms(t0, Clock::now());
         windowed += !f.global_search;
         robots += f.output.robots.size();
-        const double times[] = {f.times.preprocessing, f.times.classification, f.times.recognition, f.times.tracking,
-                                total};
+        const double times[] = {f.times.preprocessing, f.times.classification, f.times.recognition,
+                                f.times.tracking, total};
         for (std::size_t k = 0; k < stages.size(); ++k) {
           double& best = t[stages[k]][static_cast<std::size_t>(i)];
           best = std::min(best, times[k]);
@@ -150,12 +163,16 @@ int main(int argc, char** argv) {
       pass_p99.push_back(sv::percentile(totals, 99));
     }
 
-    std::printf("bench_pipeline: %s, %dx%d %s, %d frames (%s), %.1f %% searched in windows, %.1f robots tracked per frame\n",
-                scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width, scenario.height,
-                scenario.sensor.bayer.empty() ? "bgr8" : ("bayer_" + scenario.sensor.bayer + "8").c_str(), o.frames,
-                o.cold ? "cold: from memory" : "as the driver writes them",
-                100.0 * windowed / o.frames, static_cast<double>(robots) / o.frames);
-    nlohmann::json json = {{"width", scenario.width}, {"height", scenario.height}, {"frames", o.frames},
+    std::printf(
+        "bench_pipeline: %s, %dx%d %s, %d frames (%s), %.1f %% searched in windows, %.1f robots tracked per "
+        "frame\n",
+        scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width, scenario.height,
+        scenario.sensor.bayer.empty() ? "bgr8" : ("bayer_" + scenario.sensor.bayer + "8").c_str(), o.frames,
+        o.cold ? "cold: from memory" : "as the driver writes them", 100.0 * windowed / o.frames,
+        static_cast<double>(robots) / o.frames);
+    nlohmann::json json = {{"width", scenario.width},
+                           {"height", scenario.height},
+                           {"frames", o.frames},
                            {"windowed_fraction", static_cast<double>(windowed) / o.frames},
                            {"cold", o.cold}};
     if (o.repeat > 1) {
@@ -167,9 +184,10 @@ int main(int argc, char** argv) {
     }
     for (const std::string& stage : stages) {
       const auto& v = t[stage];
-      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage.c_str(), sv::percentile(v, 50), sv::percentile(v, 99),
-                  *std::max_element(v.begin(), v.end()));
-      json[stage] = {{"p50_ms", sv::percentile(v, 50)}, {"p99_ms", sv::percentile(v, 99)},
+      std::printf("  %-15s p50 %7.3f ms   p99 %7.3f ms   max %7.3f ms\n", stage.c_str(),
+                  sv::percentile(v, 50), sv::percentile(v, 99), *std::max_element(v.begin(), v.end()));
+      json[stage] = {{"p50_ms", sv::percentile(v, 50)},
+                     {"p99_ms", sv::percentile(v, 99)},
                      {"max_ms", *std::max_element(v.begin(), v.end())}};
     }
     if (!o.json.empty()) {

@@ -29,10 +29,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "soccer_vision/calibration/color_calibration.h"
-#include "soccer_vision/segmentation/color_table.h"
 #include "command_line.h"
+#include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/segmenter.h"
 
 namespace sv = soccer_vision;
@@ -118,9 +118,9 @@ std::vector<sv::CalibrationImage> loadInputs(const Options& o) {
     if (in.bgr.empty())
       throw std::runtime_error("cannot read image '" + o.images[i] + "' (missing or not an image)");
     if (!inputs.empty() && in.bgr.size() != inputs.front().bgr.size())
-      throw std::runtime_error("image '" + o.images[i] + "' is " + std::to_string(in.bgr.cols) +
-                               "x" + std::to_string(in.bgr.rows) + ", '" + o.images.front() +
-                               "' is " + std::to_string(inputs.front().bgr.cols) + "x" +
+      throw std::runtime_error("image '" + o.images[i] + "' is " + std::to_string(in.bgr.cols) + "x" +
+                               std::to_string(in.bgr.rows) + ", '" + o.images.front() + "' is " +
+                               std::to_string(inputs.front().bgr.cols) + "x" +
                                std::to_string(inputs.front().bgr.rows) +
                                ": calibration images must have one size");
     in.samples = samples[samples.size() == 1 ? 0 : i];
@@ -138,17 +138,15 @@ void checkSamplesSelectPixels(const Options& o, const std::vector<sv::Calibratio
   std::map<sv::ColorClass, std::size_t> selected;
   for (const sv::CalibrationImage& in : inputs) {
     for (const auto& [cls, polygons] : in.samples) selected[cls] += 0;
-    for (const auto& [cls, px] : sv::collectSamplePixels(in.bgr, in.samples))
-      selected[cls] += px.size();
+    for (const auto& [cls, px] : sv::collectSamplePixels(in.bgr, in.samples)) selected[cls] += px.size();
   }
   for (const auto& [cls, n] : selected) {
     if (n == 0)
-      throw std::runtime_error("the polygons of class '" +
-                               std::string(sv::colorClassName(cls)) + "' in " +
-                               (o.samples.size() == 1 ? "'" + o.samples.front() + "'"
-                                                      : std::string("the samples files")) +
-                               " select no pixel of the image(s): outside the image or too "
-                               "thin to contain a pixel centre");
+      throw std::runtime_error(
+          "the polygons of class '" + std::string(sv::colorClassName(cls)) + "' in " +
+          (o.samples.size() == 1 ? "'" + o.samples.front() + "'" : std::string("the samples files")) +
+          " select no pixel of the image(s): outside the image or too "
+          "thin to contain a pixel centre");
   }
 }
 
@@ -156,27 +154,26 @@ void printStatistics(const sv::ColorTable& table) {
   const sv::ColorTableStatistics& st = table.statistics();
   const sv::ColorTableParams& p = table.params();
   std::printf("colour table: %d x %d x %d cells (H x S x V)\n", p.h_bins, p.s_bins, p.v_bins);
-  std::printf("%-10s %8s %8s %22s %7s %9s %7s %8s %8s\n", "class", "samples", "valid",
-              "mean Lab", "mean H", "thr Lab", "thr H", "claimed", "held");
+  std::printf("%-10s %8s %8s %22s %7s %9s %7s %8s %8s\n", "class", "samples", "valid", "mean Lab", "mean H",
+              "thr Lab", "thr H", "claimed", "held");
   for (int c = 1; c < sv::kNumColorClasses; ++c) {
     const sv::ClassStatistics& s = st.classes[c];
     if (s.samples == 0) continue;
     char lab[64];
-    std::snprintf(lab, sizeof(lab), "(%.1f, %.1f, %.1f)", s.mean_lab.l, s.mean_lab.a,
-                  s.mean_lab.b);
+    std::snprintf(lab, sizeof(lab), "(%.1f, %.1f, %.1f)", s.mean_lab.l, s.mean_lab.a, s.mean_lab.b);
     char thr_h[16];
     if (s.thresholds.h > 180)
       std::snprintf(thr_h, sizeof(thr_h), "off");
     else
       std::snprintf(thr_h, sizeof(thr_h), "%.1f", s.thresholds.h);
     std::printf("%-10s %8u %8u %22s %7.1f %9.1f %7s %8u %8u\n",
-                std::string(sv::colorClassName(static_cast<sv::ColorClass>(c))).c_str(),
-                s.samples, s.valid, lab, s.mean_h, s.thresholds.lab, thr_h, s.cells_claimed,
-                s.cells_assigned);
+                std::string(sv::colorClassName(static_cast<sv::ColorClass>(c))).c_str(), s.samples, s.valid,
+                lab, s.mean_h, s.thresholds.lab, thr_h, s.cells_claimed, s.cells_assigned);
     if (s.valid == 0)
-      std::printf("  warning: no valid sample for %s: it claims no cell (check its polygons "
-                  "or raise the thresholds)\n",
-                  std::string(sv::colorClassName(static_cast<sv::ColorClass>(c))).c_str());
+      std::printf(
+          "  warning: no valid sample for %s: it claims no cell (check its polygons "
+          "or raise the thresholds)\n",
+          std::string(sv::colorClassName(static_cast<sv::ColorClass>(c))).c_str());
   }
   std::printf("cells claimed by more than one class, decided by Bayes: %u\n", st.overlap_cells);
 }
@@ -212,8 +209,8 @@ int main(int argc, char** argv) {
     checkSamplesSelectPixels(o, inputs);
     const sv::ColorTable table = sv::calibrateColorTable(inputs, o.params, o.light);
     table.save(o.out);
-    std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(),
-                inputs.front().bgr.cols, inputs.front().bgr.rows);
+    std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(), inputs.front().bgr.cols,
+                inputs.front().bgr.rows);
     printStatistics(table);
     std::printf("written: %s\n", o.out.c_str());
     if (!o.preview.empty()) writePreview(o.preview, table, inputs.front().bgr);

@@ -20,10 +20,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "command_line.h"
+#include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
-#include "soccer_vision/calibration/camera_pose_solver.h"
-#include "command_line.h"
 #include "soccer_vision/common/exchange_formats.h"
 
 namespace sv = soccer_vision;
@@ -37,7 +37,8 @@ struct Options {
 };
 
 void usage() {
-  std::cerr << "usage: calibrate_field --camera-info CAMERA_INFO.yaml --points FIELD_POINTS.yaml --out CAMERA_POSE.yaml\n"
+  std::cerr << "usage: calibrate_field --camera-info CAMERA_INFO.yaml --points FIELD_POINTS.yaml --out "
+               "CAMERA_POSE.yaml\n"
                "         [--camera-id N] [--child-frame-id FRAME] [--max-rms PX]\n";
 }
 
@@ -45,10 +46,14 @@ Options parseArgs(int argc, char** argv) {
   Options o;
   for (sv::CommandLine args(argc, argv); args.next();) {
     const std::string& a = args.flag();
-    if (a == "--camera-info") o.camera_info = args.value();
-    else if (a == "--points") o.points = args.value();
-    else if (a == "--out") o.out = args.value();
-    else if (a == "--child-frame-id") o.child_frame_id = args.value();
+    if (a == "--camera-info")
+      o.camera_info = args.value();
+    else if (a == "--points")
+      o.points = args.value();
+    else if (a == "--out")
+      o.out = args.value();
+    else if (a == "--child-frame-id")
+      o.child_frame_id = args.value();
     else if (a == "--camera-id") {
       o.camera_id = args.integer(0);
     } else if (a == "--max-rms") {
@@ -64,7 +69,8 @@ Options parseArgs(int argc, char** argv) {
   if (o.camera_info.empty() || o.points.empty() || o.out.empty()) {
     throw std::invalid_argument("--camera-info, --points and --out are required");
   }
-  if (o.child_frame_id.empty() && o.camera_id) o.child_frame_id = "camera_" + std::to_string(*o.camera_id) + "_optical";
+  if (o.child_frame_id.empty() && o.camera_id)
+    o.child_frame_id = "camera_" + std::to_string(*o.camera_id) + "_optical";
   return o;
 }
 
@@ -87,14 +93,14 @@ int run(const Options& o) {
   }
   const Eigen::Vector3d t = solution.field_T_camera.translation();
   const Eigen::Quaterniond q(solution.field_T_camera.linear());
-  std::printf("reprojection error: RMS %.4f px, max %.4f px (%d LM iterations)\n", solution.rms_px, solution.max_px,
-              solution.iterations);
-  std::printf("camera centre in field: (%.4f, %.4f, %.4f) m, rotation xyzw (%.6f, %.6f, %.6f, %.6f)\n", t.x(), t.y(),
-              t.z(), q.x(), q.y(), q.z(), q.w());
+  std::printf("reprojection error: RMS %.4f px, max %.4f px (%d LM iterations)\n", solution.rms_px,
+              solution.max_px, solution.iterations);
+  std::printf("camera centre in field: (%.4f, %.4f, %.4f) m, rotation xyzw (%.6f, %.6f, %.6f, %.6f)\n", t.x(),
+              t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
   if (solution.rms_px > o.max_rms) {
-    std::cerr << "calibrate_field: RMS reprojection error " << solution.rms_px << " px exceeds --max-rms " << o.max_rms
-              << " px: check the correspondences (" << o.points << ") and the intrinsics (" << o.camera_info
-              << "); not writing " << o.out << "\n";
+    std::cerr << "calibrate_field: RMS reprojection error " << solution.rms_px << " px exceeds --max-rms "
+              << o.max_rms << " px: check the correspondences (" << o.points << ") and the intrinsics ("
+              << o.camera_info << "); not writing " << o.out << "\n";
     return 3;
   }
   sv::CameraPoseFile file;

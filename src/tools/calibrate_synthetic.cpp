@@ -1,8 +1,8 @@
 // calibrate_synthetic: the colour table of the built-in synthetic camera, calibrated
 // exactly as a team calibrates a real one (calibrate_colors' method) on frames of the first
-// seconds of a scenario (6 frames, 1.5 s apart), with the simulator's sample polygons (markers, ball, carpet, lines,
-// robot tops) instead of hand-drawn ones. The demo launch runs it at start-up so that the
-// pipeline has a table without any file shipped.
+// seconds of a scenario (6 frames, 1.5 s apart), with the simulator's sample polygons (markers, ball, carpet,
+// lines, robot tops) instead of hand-drawn ones. The demo launch runs it at start-up so that the pipeline has
+// a table without any file shipped.
 //
 //   rosrun soccer_vision calibrate_synthetic --out table.svct [--scenario NAME|FILE.yaml]
 //       (also --key=value)
@@ -41,7 +41,8 @@ int toInt(const std::string& option, const std::string& text) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || text.empty()) throw std::invalid_argument(option + " needs an integer, got '" + text + "'");
+  if (used != text.size() || text.empty())
+    throw std::invalid_argument(option + " needs an integer, got '" + text + "'");
   return v;
 }
 
@@ -61,12 +62,19 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--out") o.out = value();
-    else if (a == "--scenario") o.scenario = value();
-    else if (a == "--camera") o.camera = toInt(a, value());
-    else if (a == "--width") o.width = toInt(a, value());
-    else if (a == "--height") o.height = toInt(a, value());
-    else throw std::invalid_argument("unknown argument '" + a + "' (--out, --scenario, --camera, --width, --height)");
+    if (a == "--out")
+      o.out = value();
+    else if (a == "--scenario")
+      o.scenario = value();
+    else if (a == "--camera")
+      o.camera = toInt(a, value());
+    else if (a == "--width")
+      o.width = toInt(a, value());
+    else if (a == "--height")
+      o.height = toInt(a, value());
+    else
+      throw std::invalid_argument("unknown argument '" + a +
+                                  "' (--out, --scenario, --camera, --width, --height)");
   }
   if (o.out.empty()) throw std::invalid_argument("--out is required");
   if (o.camera < 0 || o.camera > 1) throw std::invalid_argument("--camera must be 0 or 1");
@@ -86,10 +94,12 @@ int main(int argc, char** argv) {
     const sv::ColorTable table = sv::calibrateSyntheticCamera(scenario, o.camera);
     const std::string temporary = o.out + ".partial";
     table.save(temporary);
-    if (std::rename(temporary.c_str(), o.out.c_str()) != 0) throw std::runtime_error("cannot rename " + temporary + " to " + o.out);
-    std::printf("colour table of synthetic camera %d (%s, %dx%d) written to %s: %d overlap cells decided by Bayes\n",
-                o.camera, scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width,
-                scenario.height, o.out.c_str(), static_cast<int>(table.statistics().overlap_cells));
+    if (std::rename(temporary.c_str(), o.out.c_str()) != 0)
+      throw std::runtime_error("cannot rename " + temporary + " to " + o.out);
+    std::printf(
+        "colour table of synthetic camera %d (%s, %dx%d) written to %s: %d overlap cells decided by Bayes\n",
+        o.camera, scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width,
+        scenario.height, o.out.c_str(), static_cast<int>(table.statistics().overlap_cells));
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "calibrate_synthetic: " << e.what() << "\n";

@@ -43,9 +43,9 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
-#include "soccer_vision/sources/frame_source.h"
-#include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/evaluation/scoring.h"
+#include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/sources/frame_source.h"
 
 namespace sv = soccer_vision;
 
@@ -143,15 +143,18 @@ void printTrackingScore(const Monitor& m) {
   std::printf("  tracking outputs  %zu at %.2f Hz, latency capture -> receipt p50 %.2f ms, p99 %.2f ms\n",
               m.result_robots.size(), rate, 1e3 * percentileOf(m.result_latencies, 0.5),
               1e3 * percentileOf(m.result_latencies, 0.99));
-  std::printf("  scored frames     %ld (same stamp as a ground-truth frame)\n", static_cast<long>(score.frames));
+  std::printf("  scored frames     %ld (same stamp as a ground-truth frame)\n",
+              static_cast<long>(score.frames));
   std::printf("  robots            detection %.3f %% (%ld of %ld), precision %.3f %%, identity errors %ld\n",
               100 * score.robotDetectionRate(), static_cast<long>(score.matched_robots),
-              static_cast<long>(score.truth_robots), 100 * score.robotPrecision(), static_cast<long>(score.identity_errors));
-  std::printf("  robot error       position RMSE %.2f mm, heading RMSE %.3f deg\n", 1e3 * score.robotPositionRmse(),
-              score.robotHeadingRmse() * 180 / M_PI);
+              static_cast<long>(score.truth_robots), 100 * score.robotPrecision(),
+              static_cast<long>(score.identity_errors));
+  std::printf("  robot error       position RMSE %.2f mm, heading RMSE %.3f deg\n",
+              1e3 * score.robotPositionRmse(), score.robotHeadingRmse() * 180 / M_PI);
   std::printf("  ball              detection %.3f %% (%ld of %ld), precision %.3f %%, RMSE %.2f mm\n",
               100 * score.ballDetectionRate(), static_cast<long>(score.matched_balls),
-              static_cast<long>(score.truth_balls), 100 * score.ballPrecision(), 1e3 * score.ballPositionRmse());
+              static_cast<long>(score.truth_balls), 100 * score.ballPrecision(),
+              1e3 * score.ballPositionRmse());
 }
 
 void usage() {
@@ -173,24 +176,21 @@ void annotate(cv::Mat& bgr, const sv::CameraModel& camera,
     for (const auto& r : robots->robots) {
       const auto c = camera.project(Eigen::Vector3d(r.x, r.y, robot_height));
       const auto edge = camera.project(Eigen::Vector3d(r.x + robot_radius, r.y, robot_height));
-      const auto head = camera.project(Eigen::Vector3d(
-          r.x + 2 * robot_radius * std::cos(r.theta), r.y + 2 * robot_radius * std::sin(r.theta),
-          robot_height));
+      const auto head =
+          camera.project(Eigen::Vector3d(r.x + 2 * robot_radius * std::cos(r.theta),
+                                         r.y + 2 * robot_radius * std::sin(r.theta), robot_height));
       if (!c || !edge || !head) continue;
-      const cv::Scalar colour = !r.visible ? cv::Scalar(128, 128, 128)
-                                : r.team == soccer_vision::RobotPose::TEAM_BLUE
-                                    ? cv::Scalar(255, 160, 0)
-                                    : cv::Scalar(0, 230, 255);
+      const cv::Scalar colour = !r.visible                                      ? cv::Scalar(128, 128, 128)
+                                : r.team == soccer_vision::RobotPose::TEAM_BLUE ? cv::Scalar(255, 160, 0)
+                                                                                : cv::Scalar(0, 230, 255);
       const cv::Point pc(static_cast<int>(std::lround(c->x())), static_cast<int>(std::lround(c->y())));
       const int radius = std::max(3, static_cast<int>(std::lround((*edge - *c).norm())));
       cv::circle(bgr, pc, radius, colour, thickness, cv::LINE_AA);
       cv::line(bgr, pc,
-               cv::Point(static_cast<int>(std::lround(head->x())),
-                         static_cast<int>(std::lround(head->y()))),
+               cv::Point(static_cast<int>(std::lround(head->x())), static_cast<int>(std::lround(head->y()))),
                colour, thickness, cv::LINE_AA);
       const std::string label =
-          std::string(r.team == soccer_vision::RobotPose::TEAM_BLUE ? "B" : "Y") +
-          std::to_string(r.id);
+          std::string(r.team == soccer_vision::RobotPose::TEAM_BLUE ? "B" : "Y") + std::to_string(r.id);
       cv::putText(bgr, label, pc + cv::Point(radius + 2, -radius), cv::FONT_HERSHEY_SIMPLEX,
                   0.6 * std::max(scale, 0.5), colour, thickness, cv::LINE_AA);
     }
@@ -201,10 +201,10 @@ void annotate(cv::Mat& bgr, const sv::CameraModel& camera,
       if (!c) continue;
       const cv::Point pc(static_cast<int>(std::lround(c->x())), static_cast<int>(std::lround(c->y())));
       const cv::Scalar colour = b.visible ? cv::Scalar(0, 0, 255) : cv::Scalar(128, 128, 128);
-      cv::circle(bgr, pc, std::max(6, static_cast<int>(std::lround(12 * scale))), colour,
-                 thickness, cv::LINE_AA);
-      cv::putText(bgr, "ball", pc + cv::Point(10, -10), cv::FONT_HERSHEY_SIMPLEX,
-                  0.6 * std::max(scale, 0.5), colour, thickness, cv::LINE_AA);
+      cv::circle(bgr, pc, std::max(6, static_cast<int>(std::lround(12 * scale))), colour, thickness,
+                 cv::LINE_AA);
+      cv::putText(bgr, "ball", pc + cv::Point(10, -10), cv::FONT_HERSHEY_SIMPLEX, 0.6 * std::max(scale, 0.5),
+                  colour, thickness, cv::LINE_AA);
     }
   }
 }
@@ -265,8 +265,7 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(duration);
-  while (ros::ok() && (duration == 0 || ros::WallTime::now() < end))
-    ros::WallDuration(0.05).sleep();
+  while (ros::ok() && (duration == 0 || ros::WallTime::now() < end)) ros::WallDuration(0.05).sleep();
   spinner.stop();
   s1.shutdown();
   s2.shutdown();
@@ -277,8 +276,7 @@ int main(int argc, char** argv) {
 
   std::lock_guard<std::mutex> lock(m.mutex);
   if (m.frames == 0 || !m.last_image) {
-    std::printf("demo_monitor: no frame received on %s in %.1f s\n", s1.getTopic().c_str(),
-                duration);
+    std::printf("demo_monitor: no frame received on %s in %.1f s\n", s1.getTopic().c_str(), duration);
     std::fflush(stdout);
     return 1;
   }

@@ -25,12 +25,12 @@
 #include <rosbag/bag.h>
 #include <sensor_msgs/Image.h>
 
-#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/common/exchange_formats.h"
-#include "soccer_vision/simulation/field_renderer.h"
-#include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
+#include "soccer_vision/simulation/calibration_samples.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
 
 namespace sv = soccer_vision;
@@ -63,14 +63,22 @@ Options parseArgs(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--preset") o.preset = value();
-    else if (a == "--frames") o.frames = std::stoi(value());
-    else if (a == "--out") o.out = value();
-    else if (a == "--width") o.width = std::stoi(value());
-    else if (a == "--height") o.height = std::stoi(value());
-    else if (a == "--seed") o.seed = std::stoll(value());
-    else if (a == "--start") o.start = std::stod(value());
-    else if (a == "--compression") o.compression = value();
+    if (a == "--preset")
+      o.preset = value();
+    else if (a == "--frames")
+      o.frames = std::stoi(value());
+    else if (a == "--out")
+      o.out = value();
+    else if (a == "--width")
+      o.width = std::stoi(value());
+    else if (a == "--height")
+      o.height = std::stoi(value());
+    else if (a == "--seed")
+      o.seed = std::stoll(value());
+    else if (a == "--start")
+      o.start = std::stod(value());
+    else if (a == "--compression")
+      o.compression = value();
     else if (a == "--cameras") {
       o.cameras.clear();
       std::stringstream ss(value());
@@ -164,12 +172,10 @@ int run(const Options& o) {
 
       sensor_msgs::CameraInfo info = ch.info;
       info.header = img.header;
-      const auto robots = sv::toRobotPoseArray(scene, stamp, ch.id, [&](const sv::RobotState& r) {
-        return ch.renderer->robotVisible(r);
-      });
-      const auto balls = sv::toBallPoseArray(scene, stamp, ch.id, [&](const sv::BallState& b) {
-        return ch.renderer->ballVisible(b);
-      });
+      const auto robots = sv::toRobotPoseArray(
+          scene, stamp, ch.id, [&](const sv::RobotState& r) { return ch.renderer->robotVisible(r); });
+      const auto balls = sv::toBallPoseArray(
+          scene, stamp, ch.id, [&](const sv::BallState& b) { return ch.renderer->ballVisible(b); });
       bag.write(ch.ns + "/image_raw", stamp, img);
       bag.write(ch.ns + "/camera_info", stamp, info);
       bag.write(ch.ns + "/ground_truth/robots", stamp, robots);
@@ -196,8 +202,9 @@ int run(const Options& o) {
         // Where the frame shows the objects (mid-exposure when blurred), as calibrate_synthetic.
         const sv::SceneState shown = sv::extrapolate(scene, sv::shownTimeAfterStamp(scenario.sensor));
         const auto samples = sv::calibrationSamples(shown, ch.renderer->camera(), field, patterns);
-        sv::writeTextFile(dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
-                          sv::toYaml(samples));
+        sv::writeTextFile(
+            dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
+            sv::toYaml(samples));
       }
       if (i == 0) {
         const bool first = &ch == &channels.front();
@@ -206,13 +213,16 @@ int run(const Options& o) {
         cv::Mat bgr = rendered.image;
         if (bayer) {
           // OpenCV names Bayer patterns by the second row: RGGB mosaic -> COLOR_BayerBG2BGR.
-          static const std::map<std::string, int> kDemosaic = {
-              {"bayer_rggb8", cv::COLOR_BayerBG2BGR}, {"bayer_bggr8", cv::COLOR_BayerRG2BGR},
-              {"bayer_gbrg8", cv::COLOR_BayerGR2BGR}, {"bayer_grbg8", cv::COLOR_BayerGB2BGR}};
+          static const std::map<std::string, int> kDemosaic = {{"bayer_rggb8", cv::COLOR_BayerBG2BGR},
+                                                               {"bayer_bggr8", cv::COLOR_BayerRG2BGR},
+                                                               {"bayer_gbrg8", cv::COLOR_BayerGR2BGR},
+                                                               {"bayer_grbg8", cv::COLOR_BayerGB2BGR}};
           cv::cvtColor(rendered.image, bgr, kDemosaic.at(img.encoding));
         }
-        for (const auto& f : cameraFileNames(dir, "samples", ".yaml", ch.id, first)) sv::writeTextFile(f, sv::toYaml(samples));
-        for (const auto& f : cameraFileNames(dir, "field_points", ".yaml", ch.id, first)) sv::writeTextFile(f, sv::toYaml(points));
+        for (const auto& f : cameraFileNames(dir, "samples", ".yaml", ch.id, first))
+          sv::writeTextFile(f, sv::toYaml(samples));
+        for (const auto& f : cameraFileNames(dir, "field_points", ".yaml", ch.id, first))
+          sv::writeTextFile(f, sv::toYaml(points));
         for (const auto& f : cameraFileNames(dir, "first_frame", ".png", ch.id, first)) {
           if (!cv::imwrite(f, bgr)) throw std::runtime_error(f + ": cannot write image");
         }
@@ -229,13 +239,15 @@ int run(const Options& o) {
   bag.close();
   sv::writeJsonLines(dir + "/truth.jsonl", truth);
 
-  std::printf("wrote %s: %d frames x %zu camera(s), %dx%d %s, %.0f fps, preset '%s' (%s pattern, %d+%d robots)\n",
-              o.out.c_str(), o.frames, channels.size(), scenario.width, scenario.height,
-              channels.front().renderer->encoding().c_str(), scenario.fps, scenario.name.c_str(),
-              patterns.name.c_str(), scenario.blue_robots, scenario.yellow_robots);
-  std::printf("and %s/{truth.jsonl, samples.yaml, field_points.yaml, camera_info.yaml, first_frame.png, "
-              "samples_camera_<n>_frame_<i>.yaml}\n",
-              dir.c_str());
+  std::printf(
+      "wrote %s: %d frames x %zu camera(s), %dx%d %s, %.0f fps, preset '%s' (%s pattern, %d+%d robots)\n",
+      o.out.c_str(), o.frames, channels.size(), scenario.width, scenario.height,
+      channels.front().renderer->encoding().c_str(), scenario.fps, scenario.name.c_str(),
+      patterns.name.c_str(), scenario.blue_robots, scenario.yellow_robots);
+  std::printf(
+      "and %s/{truth.jsonl, samples.yaml, field_points.yaml, camera_info.yaml, first_frame.png, "
+      "samples_camera_<n>_frame_<i>.yaml}\n",
+      dir.c_str());
   return 0;
 }
 

@@ -7,12 +7,18 @@ namespace soccer_vision {
 
 const char* globalSearchReasonName(GlobalSearchReason r) {
   switch (r) {
-    case GlobalSearchReason::None: return "none";
-    case GlobalSearchReason::First: return "first";
-    case GlobalSearchReason::AfterReset: return "after_reset";
-    case GlobalSearchReason::NoTracks: return "no_tracks";
-    case GlobalSearchReason::TargetMissing: return "target_missing";
-    case GlobalSearchReason::Periodic: return "periodic";
+    case GlobalSearchReason::None:
+      return "none";
+    case GlobalSearchReason::First:
+      return "first";
+    case GlobalSearchReason::AfterReset:
+      return "after_reset";
+    case GlobalSearchReason::NoTracks:
+      return "no_tracks";
+    case GlobalSearchReason::TargetMissing:
+      return "target_missing";
+    case GlobalSearchReason::Periodic:
+      return "periodic";
   }
   return "?";
 }

@@ -37,7 +37,8 @@ void validate(const RobotFilterParams& p) {
   requirePositive(p.init_sigma_omega, "init_sigma_omega");
   requirePositive(p.gate_position_d2, "gate_position_d2");
   requirePositive(p.gate_heading_d2, "gate_heading_d2");
-  if (!(p.gate_min_distance >= 0)) throw std::invalid_argument("robot filter: gate_min_distance must be >= 0");
+  if (!(p.gate_min_distance >= 0))
+    throw std::invalid_argument("robot filter: gate_min_distance must be >= 0");
   if (!(p.gate_min_angle >= 0)) throw std::invalid_argument("robot filter: gate_min_angle must be >= 0");
   if (!(p.maneuver_speed_change >= 0) || !std::isfinite(p.maneuver_speed_change)) {
     throw std::invalid_argument("robot filter: maneuver_speed_change must be >= 0");
@@ -112,7 +113,8 @@ double RobotFilter::positionDistance2(double x, double y) const {
 void RobotFilter::applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H,
                               const Eigen::MatrixXd& R) {
   const Eigen::MatrixXd S = H * P_ * H.transpose() + R;
-  const Eigen::MatrixXd K = P_ * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(S.rows(), S.rows()));
+  const Eigen::MatrixXd K =
+      P_ * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(S.rows(), S.rows()));
   x_ += K * innovation;
   x_(2) = wrapToPi(x_(2));
   // Joseph form: stays symmetric positive definite over thousands of updates.
@@ -154,9 +156,10 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     const double dtheta = wrapToPi(m.theta - x_(2));
     const double s = P_(2, 2) + p_.sigma_theta * p_.sigma_theta;
     use_heading = std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
-    heading_maneuver = !use_heading && p_.maneuver_omega_change > 0 &&
-                       std::abs(dtheta) <= std::min(kMaxManeuverTurn, p_.maneuver_omega_change * since_heading_ +
-                                                                          p_.gate_min_angle);
+    heading_maneuver =
+        !use_heading && p_.maneuver_omega_change > 0 &&
+        std::abs(dtheta) <=
+            std::min(kMaxManeuverTurn, p_.maneuver_omega_change * since_heading_ + p_.gate_min_angle);
     if (heading_maneuver) {
       // An angular-velocity jump dω at the last heading update turns the robot by dω * t since.
       const double var = 0.25 * p_.maneuver_omega_change * p_.maneuver_omega_change;
@@ -170,7 +173,7 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     if (!use_heading && ++heading_rejections_ >= p_.reinit_after_rejections) {
       startHeading(m.theta);  // the heading really changed (or the track began without one)
       heading_rejections_ = 0;
-      use_heading = false;    // just set from this measurement; update the position below
+      use_heading = false;  // just set from this measurement; update the position below
     } else if (use_heading) {
       heading_rejections_ = 0;
     }

@@ -10,7 +10,8 @@ void validate(const SearchPlannerParams& p) {
   validate(p.windows);
 }
 
-SearchPlanner::SearchPlanner(const SearchPlannerParams& params) : params_(params), policy_(params.global_search) {
+SearchPlanner::SearchPlanner(const SearchPlannerParams& params)
+    : params_(params), policy_(params.global_search) {
   validate(params_);
 }
 
@@ -42,7 +43,8 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   plan.global_search = !camera || plan.reason != GlobalSearchReason::None;
   if (plan.global_search) return plan;
   plan.rects = windowRects(plan.windows);
-  for (const cv::Rect& band : entryBands(cv::Size(camera->width(), camera->height()), params_.entry_band_px)) {
+  for (const cv::Rect& band :
+       entryBands(cv::Size(camera->width(), camera->height()), params_.entry_band_px)) {
     plan.rects.push_back(band);
   }
   return plan;

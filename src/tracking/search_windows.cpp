@@ -29,12 +29,12 @@ double pixelsFor(const CameraModel& camera, const Eigen::Vector3d& p, const Eige
   return pixels;
 }
 
-std::optional<SearchWindow> window(const CameraModel& camera, const Eigen::Vector3d& p,
-                                   double grow_metres, const SearchWindowParams& params) {
+std::optional<SearchWindow> window(const CameraModel& camera, const Eigen::Vector3d& p, double grow_metres,
+                                   const SearchWindowParams& params) {
   const auto centre = camera.project(p);
   if (!centre || !centre->allFinite()) return std::nullopt;
-  const double half = std::min(0.5 * params.side_px + pixelsFor(camera, p, *centre, grow_metres),
-                               0.5 * params.max_side_px);
+  const double half =
+      std::min(0.5 * params.side_px + pixelsFor(camera, p, *centre, grow_metres), 0.5 * params.max_side_px);
   // Pixels whose centres lie in [c - half, c + half): exactly 2 * half wide before clipping.
   const int x0 = std::max(0, static_cast<int>(std::ceil(centre->x() - half)));
   const int y0 = std::max(0, static_cast<int>(std::ceil(centre->y() - half)));
@@ -52,9 +52,11 @@ std::optional<SearchWindow> window(const CameraModel& camera, const Eigen::Vecto
 
 void validate(const SearchWindowParams& p) {
   if (p.side_px < 1) throw std::invalid_argument("search windows: side_px must be >= 1");
-  if (p.max_side_px < p.side_px) throw std::invalid_argument("search windows: max_side_px must be >= side_px");
+  if (p.max_side_px < p.side_px)
+    throw std::invalid_argument("search windows: max_side_px must be >= side_px");
   if (!(p.sigma_scale >= 0)) throw std::invalid_argument("search windows: sigma_scale must be >= 0");
-  if (!(p.ball_speed_margin >= 0)) throw std::invalid_argument("search windows: ball_speed_margin must be >= 0");
+  if (!(p.ball_speed_margin >= 0))
+    throw std::invalid_argument("search windows: ball_speed_margin must be >= 0");
   if (!std::isfinite(p.robot_height) || !std::isfinite(p.ball_height)) {
     throw std::invalid_argument("search windows: heights must be finite");
   }

@@ -18,8 +18,7 @@ bool finite(const RobotDetection& d) {
 }
 
 bool finite(const BallDetection& d) {
-  return std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) &&
-         std::isfinite(d.confidence);
+  return std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && std::isfinite(d.confidence);
 }
 
 double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
@@ -32,8 +31,8 @@ void validate(const TrackerParams& p) {
   validate(p.time);
   auto positive = [](double v, const char* name) {
     if (!(v > 0) || !std::isfinite(v)) {
-      throw std::invalid_argument(std::string("tracker: ") + name + " must be > 0 (got " +
-                                  std::to_string(v) + ")");
+      throw std::invalid_argument(std::string("tracker: ") + name + " must be > 0 (got " + std::to_string(v) +
+                                  ")");
     }
   };
   positive(p.robot_lost_timeout, "robot_lost_timeout");
@@ -48,7 +47,8 @@ void validate(const TrackerParams& p) {
   if (!(p.visible_window >= 0)) throw std::invalid_argument("tracker: visible_window must be >= 0");
   auto offset = [](double v, const std::string& name) {
     if (!(std::abs(v) <= 0.1)) {
-      throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " + std::to_string(v) + ")");
+      throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " +
+                                  std::to_string(v) + ")");
     }
   };
   offset(p.measurement_offset, "measurement_offset");
@@ -123,8 +123,7 @@ TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   return report;
 }
 
-RobotMeasurement Tracker::compensated(const RobotTrack& track, const RobotDetection& d,
-                                      double lag) const {
+RobotMeasurement Tracker::compensated(const RobotTrack& track, const RobotDetection& d, double lag) const {
   // The frame is `lag` older than the filter: move what it saw forward along the velocity.
   const auto& s = track.filter.state();
   RobotMeasurement m;
@@ -135,9 +134,8 @@ RobotMeasurement Tracker::compensated(const RobotTrack& track, const RobotDetect
   return m;
 }
 
-void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d,
-                           const CameraFrameDetections& frame, double lag,
-                           TrackerUpdateReport& report) {
+void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d, const CameraFrameDetections& frame,
+                           double lag, TrackerUpdateReport& report) {
   const GateResult gate = track.filter.update(compensated(track, d, lag));
   if (gate == GateResult::Rejected) {
     ++report.robot_outliers;
@@ -152,7 +150,7 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d,
   } else {
     track.has_heading = track.has_heading ||
                         (d.heading_valid && (gate == GateResult::Accepted || gate == GateResult::Maneuver ||
-                                               gate == GateResult::HeadingManeuver));
+                                             gate == GateResult::HeadingManeuver));
   }
   track.last_measured = frame.stamp;
   track.last_time = timeline_.now();
@@ -166,15 +164,13 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d,
 void Tracker::startRobot(const RobotDetection& d, const CameraFrameDetections& frame,
                          TrackerUpdateReport& report) {
   RobotMeasurement m{d.x, d.y, d.theta, d.heading_valid};
-  robots_.push_back(RobotTrack{next_track_id_++, d.team, d.id, RobotFilter(p_.robot, m),
-                               frame.stamp, timeline_.now(), frame.camera_id, clamp01(d.confidence),
-                               d.heading_valid, 1});
+  robots_.push_back(RobotTrack{next_track_id_++, d.team, d.id, RobotFilter(p_.robot, m), frame.stamp,
+                               timeline_.now(), frame.camera_id, clamp01(d.confidence), d.heading_valid, 1});
   ++report.robots_created;
   report.measured_track_ids.push_back(robots_.back().track_id);
 }
 
-void Tracker::updateRobots(const CameraFrameDetections& frame, double lag,
-                           TrackerUpdateReport& report) {
+void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report) {
   // Usable detections, split into identities and team-only.
   std::map<std::pair<int, int>, std::vector<const RobotDetection*>> by_identity;
   std::vector<const RobotDetection*> team_only[2];
@@ -197,7 +193,8 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag,
     });
     report.duplicate_detections += static_cast<int>(detections.size()) - 1;
     if (track == robots_.end()) {
-      const auto best = std::max_element(detections.begin(), detections.end(),
+      const auto best = std::max_element(
+          detections.begin(), detections.end(),
           [](const RobotDetection* a, const RobotDetection* b) { return a->confidence < b->confidence; });
       startRobot(**best, frame, report);
       continue;
@@ -253,8 +250,7 @@ void Tracker::startBall(const BallDetection& d, const CameraFrameDetections& fra
   report.measured_track_ids.push_back(balls_.back().track_id);
 }
 
-void Tracker::updateBalls(const CameraFrameDetections& frame, double lag,
-                          TrackerUpdateReport& report) {
+void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report) {
   std::vector<const BallDetection*> candidates;
   for (const auto& d : frame.balls) {
     if (!finite(d)) {
@@ -310,9 +306,8 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag,
       const Eigen::Vector2d p = position(t, *candidates[ci]);
       const BallGate gate = t.filter.classify(p.x(), p.y(), since);
       if (gate == BallGate::Rejected || (best_in_gate && gate == BallGate::Kick)) continue;
-      const double score = gate == BallGate::Accepted
-                               ? t.filter.distance2(p.x(), p.y())
-                               : (p - t.filter.state().head<2>()).norm();
+      const double score = gate == BallGate::Accepted ? t.filter.distance2(p.x(), p.y())
+                                                      : (p - t.filter.state().head<2>()).norm();
       if ((gate == BallGate::Accepted && !best_in_gate) || score < best_score) {
         best = ci;
         best_score = score;
@@ -363,8 +358,7 @@ void Tracker::choosePrimaryBall() {
   }
 }
 
-double Tracker::fadedConfidence(double confidence, double last_measured, double stamp,
-                                double timeout) const {
+double Tracker::fadedConfidence(double confidence, double last_measured, double stamp, double timeout) const {
   return clamp01(confidence * (1.0 - std::max(0.0, stamp - last_measured) / timeout));
 }
 

@@ -16,14 +16,22 @@ void validate(const TimelineParams& p) {
 
 const char* timeEventName(TimeEvent e) {
   switch (e) {
-    case TimeEvent::Start: return "start";
-    case TimeEvent::InOrder: return "in_order";
-    case TimeEvent::SameTime: return "same_time";
-    case TimeEvent::BackwardJump: return "backward_jump";
-    case TimeEvent::ForwardJump: return "forward_jump";
-    case TimeEvent::Late: return "late";
-    case TimeEvent::Stale: return "stale";
-    case TimeEvent::InvalidStamp: return "invalid_stamp";
+    case TimeEvent::Start:
+      return "start";
+    case TimeEvent::InOrder:
+      return "in_order";
+    case TimeEvent::SameTime:
+      return "same_time";
+    case TimeEvent::BackwardJump:
+      return "backward_jump";
+    case TimeEvent::ForwardJump:
+      return "forward_jump";
+    case TimeEvent::Late:
+      return "late";
+    case TimeEvent::Stale:
+      return "stale";
+    case TimeEvent::InvalidStamp:
+      return "invalid_stamp";
   }
   return "?";
 }

@@ -1,17 +1,17 @@
 // Field calibration core: camera model round trips, the pose solver on exact and noisy
 // correspondences and on degenerate input, camera_pose.yaml and camera_info.yaml.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
 
-#include "soccer_vision/simulation/calibration_samples.h"
+#include <gtest/gtest.h>
+
+#include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
-#include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/simulation/calibration_samples.h"
 
 using namespace soccer_vision;
 
@@ -35,8 +35,10 @@ CameraModel tiltedCamera() {
   down.col(1) = Eigen::Vector3d::UnitX();
   down.col(2) = -Eigen::Vector3d::UnitZ();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.61, Eigen::Vector3d::UnitY()))
-                      .toRotationMatrix() * down;
+  pose.linear() =
+      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.61, Eigen::Vector3d::UnitY()))
+          .toRotationMatrix() *
+      down;
   pose.translation() = Eigen::Vector3d(-5.5, 0.4, 3.2);
   return CameraModel(k, pose);
 }
@@ -45,7 +47,8 @@ double rotationErrorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) 
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
 }
 
-std::vector<FieldCorrespondence> pointsOf(const CameraModel& camera, const std::vector<Eigen::Vector3d>& field) {
+std::vector<FieldCorrespondence> pointsOf(const CameraModel& camera,
+                                          const std::vector<Eigen::Vector3d>& field) {
   std::vector<FieldCorrespondence> out;
   for (const auto& p : field) {
     const auto px = camera.project(p);
@@ -55,7 +58,8 @@ std::vector<FieldCorrespondence> pointsOf(const CameraModel& camera, const std::
 }
 
 // Correspondences seen at given pixels, on planes of given heights.
-std::vector<FieldCorrespondence> pointsAtPixels(const CameraModel& camera, const std::vector<Eigen::Vector3d>& uvz) {
+std::vector<FieldCorrespondence> pointsAtPixels(const CameraModel& camera,
+                                                const std::vector<Eigen::Vector3d>& uvz) {
   std::vector<FieldCorrespondence> out;
   for (const auto& p : uvz) {
     const Eigen::Vector2d px(p.x(), p.y());
@@ -67,8 +71,8 @@ std::vector<FieldCorrespondence> pointsAtPixels(const CameraModel& camera, const
 }  // namespace
 
 TEST(CameraModelRoundTrip, PixelToFieldToPixelAtCarpetBallAndMarkerHeights) {
-  for (const CameraModel& cam : {CameraModel::defaultCamera(kField, 0), CameraModel::defaultCamera(kField, 1),
-                                 tiltedCamera()}) {
+  for (const CameraModel& cam :
+       {CameraModel::defaultCamera(kField, 0), CameraModel::defaultCamera(kField, 1), tiltedCamera()}) {
     double worst = 0;
     int n = 0;
     for (double z : {0.0, 0.0215, 0.15}) {
@@ -97,8 +101,9 @@ TEST(CameraPoseSolver, RecoversTheDefaultCamerasFromExactLandmarks) {
     const CameraPoseSolution s = solveCameraPose(truth.intrinsics(), points);
     const double dt = (s.field_T_camera.translation() - truth.fieldTCamera().translation()).norm();
     const double dr = rotationErrorDeg(s.field_T_camera, truth.fieldTCamera());
-    std::printf("[ exact, camera %d ] %zu points: position error %.2e m, rotation error %.2e deg, RMS %.2e px\n",
-                index, points.size(), dt, dr, s.rms_px);
+    std::printf(
+        "[ exact, camera %d ] %zu points: position error %.2e m, rotation error %.2e deg, RMS %.2e px\n",
+        index, points.size(), dt, dr, s.rms_px);
     EXPECT_LT(dt, 0.001);
     EXPECT_LT(dr, 0.1);
     EXPECT_LT(s.rms_px, 1e-4);
@@ -110,8 +115,9 @@ TEST(CameraPoseSolver, RecoversATiltedCameraFromFourCoplanarOrNonCoplanarPoints)
   const CameraModel truth = tiltedCamera();
   // Exactly 4 carpet points (the minimum; IPPE), then points at several heights (SQPnP).
   const auto four = pointsAtPixels(truth, {{100, 80, 0}, {950, 120, 0}, {900, 700, 0}, {60, 650, 0}});
-  const auto mixed = pointsAtPixels(truth, {{100, 80, 0}, {950, 120, 0.15}, {900, 700, 0.3}, {60, 650, 0.0215},
-                                            {500, 400, 0.5}, {300, 200, 0.1}});
+  const auto mixed = pointsAtPixels(
+      truth,
+      {{100, 80, 0}, {950, 120, 0.15}, {900, 700, 0.3}, {60, 650, 0.0215}, {500, 400, 0.5}, {300, 200, 0.1}});
   for (const auto& points : {four, mixed}) {
     const CameraPoseSolution s = solveCameraPose(truth.intrinsics(), points);
     EXPECT_LT((s.field_T_camera.translation() - truth.fieldTCamera().translation()).norm(), 0.001);
@@ -134,7 +140,8 @@ TEST(CameraPoseSolver, NoisyCorrespondencesGiveASensibleError) {
     auto points = exact;
     for (auto& p : points) p.pixel += Eigen::Vector2d(noise(rng), noise(rng));
     const CameraPoseSolution s = solveCameraPose(truth.intrinsics(), points);
-    worst_dt = std::max(worst_dt, (s.field_T_camera.translation() - truth.fieldTCamera().translation()).norm());
+    worst_dt =
+        std::max(worst_dt, (s.field_T_camera.translation() - truth.fieldTCamera().translation()).norm());
     worst_dr = std::max(worst_dr, rotationErrorDeg(s.field_T_camera, truth.fieldTCamera()));
     rms_sum += s.rms_px;
     const CameraModel solved = s.model();
@@ -146,9 +153,11 @@ TEST(CameraPoseSolver, NoisyCorrespondencesGiveASensibleError) {
     }
   }
   const double dof = std::sqrt((2.0 * exact.size() - 6) / (2.0 * exact.size()));
-  std::printf("[ 0.5 px noise ] %zu points, %d trials: mean RMS %.3f px (expected %.3f), worst position error "
-              "%.1f mm, rotation %.3f deg, marker reprojection %.3f px\n",
-              exact.size(), trials, rms_sum / trials, 0.5 * std::sqrt(2.0) * dof, 1000 * worst_dt, worst_dr, worst_px);
+  std::printf(
+      "[ 0.5 px noise ] %zu points, %d trials: mean RMS %.3f px (expected %.3f), worst position error "
+      "%.1f mm, rotation %.3f deg, marker reprojection %.3f px\n",
+      exact.size(), trials, rms_sum / trials, 0.5 * std::sqrt(2.0) * dof, 1000 * worst_dt, worst_dr,
+      worst_px);
   EXPECT_NEAR(rms_sum / trials, 0.5 * std::sqrt(2.0) * dof, 0.12);
   EXPECT_LT(worst_dt, 0.03);
   EXPECT_LT(worst_dr, 0.3);
@@ -257,7 +266,8 @@ TEST(CameraInfoYaml, ReadsTheStandardCalibrationFile) {
       "distortion_model: plumb_bob\n"
       "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [-0.12, 0.02, 0.001, 0.002, 0]\n"
       "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
-      "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [400, 0, 319.75, 0, 0, 401, 255.75, 0, 0, 0, 1, 0]\n";
+      "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [400, 0, 319.75, 0, 0, 401, 255.75, 0, 0, 0, 1, "
+      "0]\n";
   const CameraIntrinsics k = parseCameraInfoYaml(text, "ci.yaml");
   EXPECT_EQ(k.width, 640);
   EXPECT_EQ(k.height, 512);

@@ -7,9 +7,9 @@
 using namespace soccer_vision;
 
 TEST(ExchangeFormats, JsonLineMatchesDesignExample) {
-  const auto f = parseJsonLine(
-      R"({"stamp": 1700000000.016667, "robots": [{"team": "blue", "id": 3, "x": 1.204,)"
-      R"( "y": -0.551, "theta": 1.571}], "balls": [{"x": 0.120, "y": 0.003}]})");
+  const auto f =
+      parseJsonLine(R"({"stamp": 1700000000.016667, "robots": [{"team": "blue", "id": 3, "x": 1.204,)"
+                    R"( "y": -0.551, "theta": 1.571}], "balls": [{"x": 0.120, "y": 0.003}]})");
   EXPECT_DOUBLE_EQ(f.stamp, 1700000000.016667);
   ASSERT_EQ(f.robots.size(), 1u);
   EXPECT_EQ(f.robots[0].team, Team::Blue);
@@ -51,7 +51,8 @@ TEST(ExchangeFormats, JsonLinesRoundTripWithOptionalFields) {
 
 TEST(ExchangeFormats, BadJsonLineNamesTheLine) {
   const std::string path = ::testing::TempDir() + "/bad.jsonl";
-  writeTextFile(path, "{\"stamp\": 1, \"robots\": [], \"balls\": []}\n{\"stamp\": 2, \"robots\": [{\"team\": \"red\"");
+  writeTextFile(
+      path, "{\"stamp\": 1, \"robots\": [], \"balls\": []}\n{\"stamp\": 2, \"robots\": [{\"team\": \"red\"");
   try {
     readJsonLines(path);
     FAIL() << "no error";
@@ -64,7 +65,8 @@ TEST(ExchangeFormats, BadJsonLineNamesTheLine) {
 TEST(ExchangeFormats, ColorSamplesRoundTripInDesignFormat) {
   const auto s = parseColorSamples(
       "pink:\n  - [[612, 400], [620, 400], [620, 408], [612, 408]]\n"
-      "orange:\n  - [[100.5, 200.0], [104.0, 203.5], [100.5, 207.0], [97.0, 203.5]]\n", "s.yaml");
+      "orange:\n  - [[100.5, 200.0], [104.0, 203.5], [100.5, 207.0], [97.0, 203.5]]\n",
+      "s.yaml");
   ASSERT_EQ(s.at(ColorClass::Pink).size(), 1u);
   EXPECT_EQ(s.at(ColorClass::Pink)[0].size(), 4u);
   EXPECT_DOUBLE_EQ(s.at(ColorClass::Orange)[0][3].x(), 97.0);

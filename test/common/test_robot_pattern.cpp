@@ -58,8 +58,8 @@ TEST(Patterns, SslMatchesDesign) {
   const auto g = ColorClass::Green, k = ColorClass::Pink;
   EXPECT_EQ(p.ids[0], (std::vector<ColorClass>{g, g, g, g}));
   EXPECT_EQ(p.ids[15], (std::vector<ColorClass>{k, k, k, k}));
-  EXPECT_EQ(p.ids[8], (std::vector<ColorClass>{k, g, g, g}));   // front right is the MSB
-  EXPECT_EQ(p.ids[1], (std::vector<ColorClass>{g, g, g, k}));   // back right is the LSB
+  EXPECT_EQ(p.ids[8], (std::vector<ColorClass>{k, g, g, g}));  // front right is the MSB
+  EXPECT_EQ(p.ids[1], (std::vector<ColorClass>{g, g, g, k}));  // back right is the LSB
 }
 
 TEST(Patterns, FilesEqualBuiltIns) {
@@ -82,13 +82,17 @@ TEST(Patterns, BadFilesAreRejectedWithAClearMessage) {
   EXPECT_NE(error("[1, 2").find("invalid YAML"), std::string::npos);
   EXPECT_NE(error("name: x\n").find("team_marker"), std::string::npos);
   EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[blue_ish]]\n")
-                .find("not a marker colour"), std::string::npos);
+                .find("not a marker colour"),
+            std::string::npos);
   EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink, red]]\n")
-                .find("one colour per slot"), std::string::npos);
+                .find("one colour per slot"),
+            std::string::npos);
   EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink], [pink]]\n")
-                .find("same colours"), std::string::npos);
-  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.08, y: 0, radius: 0.02}]\nids: [[pink]]\n")
-                .find("exceeds"), std::string::npos);
+                .find("same colours"),
+            std::string::npos);
+  EXPECT_NE(
+      error(team + "slots: [{shape: disc, x: 0.08, y: 0, radius: 0.02}]\nids: [[pink]]\n").find("exceeds"),
+      std::string::npos);
   EXPECT_NE(error("team_marker: {shape: star, x: 0, y: 0}\n").find("'disc' or 'rect'"), std::string::npos);
   EXPECT_THROW(loadPatternSet("/nonexistent/pattern.yaml"), std::runtime_error);
 }

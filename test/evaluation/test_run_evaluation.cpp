@@ -11,11 +11,11 @@
 #include <gtest/gtest.h>
 
 #include "soccer_vision/evaluation/evaluation.h"
+#include "soccer_vision/pipeline/vision_pipeline.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
-#include "soccer_vision/tracking/result_recording.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
-#include "soccer_vision/pipeline/vision_pipeline.h"
+#include "soccer_vision/tracking/result_recording.h"
 
 using namespace soccer_vision;
 
@@ -34,8 +34,8 @@ RobotRecord robot(Team team, int id, double x, double y, bool visible = true) {
 FrameRecord truthFrame(double stamp) {
   FrameRecord f;
   f.stamp = stamp;
-  f.robots = {robot(Team::Blue, 0, 0.0, 0.0), robot(Team::Blue, 1, 1.0, 0.0), robot(Team::Yellow, 0, 0.0, 1.0),
-              robot(Team::Yellow, 1, 1.0, 1.0)};
+  f.robots = {robot(Team::Blue, 0, 0.0, 0.0), robot(Team::Blue, 1, 1.0, 0.0),
+              robot(Team::Yellow, 0, 0.0, 1.0), robot(Team::Yellow, 1, 1.0, 1.0)};
   BallRecord b;
   b.x = 0.5;
   b.y = 0.5;
@@ -98,9 +98,9 @@ TEST(RunEvaluation, HandCountedWrongIdAndDisplacedRobot) {
   const Score& s = e.total();
   EXPECT_EQ(s.truth_robots, 20);
   EXPECT_EQ(s.result_robots, 20);
-  EXPECT_EQ(s.matched_robots, 18);   // two misses in frame 2
-  EXPECT_EQ(s.false_robots, 2);      // the wrong id and the displaced robot
-  EXPECT_EQ(s.identity_errors, 1);   // the wrong id lies on blue 1
+  EXPECT_EQ(s.matched_robots, 18);  // two misses in frame 2
+  EXPECT_EQ(s.false_robots, 2);     // the wrong id and the displaced robot
+  EXPECT_EQ(s.identity_errors, 1);  // the wrong id lies on blue 1
   EXPECT_DOUBLE_EQ(s.robotDetectionRate(), 18.0 / 20.0);
   EXPECT_DOUBLE_EQ(s.robotPrecision(), 18.0 / 20.0);
   EXPECT_EQ(e.failedFrames(), 1);
@@ -180,8 +180,10 @@ Rendered render(const std::string& preset, int frames, cv::Size size = {}) {
   const FieldGeometry field;
   r.patterns = patternSetByName(r.scenario.pattern);
   r.camera = CameraModel::defaultCamera(field, 0, r.scenario.width, r.scenario.height);
-  if (!r.scenario.sensor.bayer.empty()) r.layout = *pixelLayoutForEncoding("bayer_" + r.scenario.sensor.bayer + "8");
-  r.model = SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateSyntheticCamera(r.scenario, 0)));
+  if (!r.scenario.sensor.bayer.empty())
+    r.layout = *pixelLayoutForEncoding("bayer_" + r.scenario.sensor.bayer + "8");
+  r.model = SegmentationModel::fromTable(
+      std::make_shared<const ColorTable>(calibrateSyntheticCamera(r.scenario, 0)));
   const FieldRenderer renderer(r.camera, field, r.patterns, r.scenario);
   GameSimulator sim(r.scenario, field, r.patterns.maxRobotsPerTeam());
   const double dt = 1.0 / r.scenario.fps;
@@ -237,11 +239,12 @@ RunFigures runPipeline(const Rendered& r, const VisionPipelineParams& params = {
 
 void expectTargets(const char* preset, const RunFigures& fig) {
   const Score& s = fig.evaluation.total();
-  std::printf("%s: %lld frames, robots %.3f %% / %.3f %%, %.2f mm, %.2f deg, ball %.2f %%, %lld identity switches, "
-              "%lld global searches\n",
-              preset, static_cast<long long>(s.frames), 100 * s.robotDetectionRate(), 100 * s.robotPrecision(),
-              1e3 * s.robotPositionRmse(), s.robotHeadingRmse() * 180 / M_PI, 100 * s.ballDetectionRate(),
-              static_cast<long long>(fig.evaluation.identitySwitches()), static_cast<long long>(fig.global));
+  std::printf(
+      "%s: %lld frames, robots %.3f %% / %.3f %%, %.2f mm, %.2f deg, ball %.2f %%, %lld identity switches, "
+      "%lld global searches\n",
+      preset, static_cast<long long>(s.frames), 100 * s.robotDetectionRate(), 100 * s.robotPrecision(),
+      1e3 * s.robotPositionRmse(), s.robotHeadingRmse() * 180 / M_PI, 100 * s.ballDetectionRate(),
+      static_cast<long long>(fig.evaluation.identitySwitches()), static_cast<long long>(fig.global));
   EXPECT_GE(s.robotDetectionRate(), 0.999) << preset;
   EXPECT_GE(s.robotPrecision(), 0.9995) << preset;
   EXPECT_LE(s.robotPositionRmse(), 0.005) << preset;
@@ -254,9 +257,15 @@ void expectTargets(const char* preset, const RunFigures& fig) {
 
 // Accuracy regression: the pipeline issue's targets on presets of even light, uneven
 // drifting light and the SSL pattern, 3 s each.
-TEST(VisionPipeline, MeetsTheTargetsOnEvenStatic) { expectTargets("even_static", runPipeline(render("even_static", 180))); }
-TEST(VisionPipeline, MeetsTheTargetsOnUnevenDrift) { expectTargets("uneven_drift", runPipeline(render("uneven_drift", 180))); }
-TEST(VisionPipeline, MeetsTheTargetsOnSslPattern) { expectTargets("ssl_pattern", runPipeline(render("ssl_pattern", 180))); }
+TEST(VisionPipeline, MeetsTheTargetsOnEvenStatic) {
+  expectTargets("even_static", runPipeline(render("even_static", 180)));
+}
+TEST(VisionPipeline, MeetsTheTargetsOnUnevenDrift) {
+  expectTargets("uneven_drift", runPipeline(render("uneven_drift", 180)));
+}
+TEST(VisionPipeline, MeetsTheTargetsOnSslPattern) {
+  expectTargets("ssl_pattern", runPipeline(render("ssl_pattern", 180)));
+}
 
 // ssl-vision's classic 780x580 and a 640x512 camera over the same half field: the markers
 // are 60 % / 50 % the size in pixels (labelParams scales the region parameters).

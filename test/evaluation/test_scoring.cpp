@@ -1,7 +1,7 @@
 // Scoring definitions (scoring.h) on hand-made frames whose counts are known.
-#include <gtest/gtest.h>
-
 #include <cmath>
+
+#include <gtest/gtest.h>
 
 #include "soccer_vision/evaluation/scoring.h"
 
@@ -51,8 +51,8 @@ TEST(Scoring, WrongIdAndDisplacedRobotsCountAsByHand) {
   const Score s = scoreFrame(truth, result);
   EXPECT_EQ(s.truth_robots, 10);
   EXPECT_EQ(s.result_robots, 11);
-  EXPECT_EQ(s.excused_robots, 1);   // yellow 7 out of view
-  EXPECT_EQ(s.matched_robots, 8);   // all but blue 0 and yellow 0
+  EXPECT_EQ(s.excused_robots, 1);  // yellow 7 out of view
+  EXPECT_EQ(s.matched_robots, 8);  // all but blue 0 and yellow 0
   EXPECT_EQ(s.false_robots, 2);
   EXPECT_EQ(s.identity_errors, 1);  // the wrong id lies on blue 0
   EXPECT_DOUBLE_EQ(s.robotDetectionRate(), 0.8);

@@ -9,8 +9,8 @@
 #include <opencv2/core.hpp>
 
 #include "soccer_vision/common/camera_model.h"
-#include "soccer_vision/segmentation/region_extractor.h"
 #include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/segmentation/region_extractor.h"
 
 namespace soccer_vision::test {
 
@@ -22,11 +22,11 @@ inline Region rasterise(ColorClass color, const Eigen::Vector2d& centre, int rea
   int umin = 1 << 30, vmin = 1 << 30, umax = -1, vmax = -1;
   const int n = 8;
   for (int v = static_cast<int>(std::lround(centre.y())) - reach; v <= std::lround(centre.y()) + reach; ++v) {
-    for (int u = static_cast<int>(std::lround(centre.x())) - reach; u <= std::lround(centre.x()) + reach; ++u) {
+    for (int u = static_cast<int>(std::lround(centre.x())) - reach; u <= std::lround(centre.x()) + reach;
+         ++u) {
       int hits = 0;
       for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          hits += inside({u - 0.5 + (i + 0.5) / n, v - 0.5 + (j + 0.5) / n});
+        for (int i = 0; i < n; ++i) hits += inside({u - 0.5 + (i + 0.5) / n, v - 0.5 + (j + 0.5) / n});
       if (!hits) continue;
       const double a = static_cast<double>(hits) / (n * n);
       w += a;
@@ -56,8 +56,8 @@ inline Region rasterise(ColorClass color, const Eigen::Vector2d& centre, int rea
 }
 
 // Region of one marker (shape in the robot frame) of a robot at (x, y, theta), plane z.
-inline Region markerRegion(const CameraModel& camera, const MarkerShape& s, ColorClass color, double x, double y,
-                           double theta, double z) {
+inline Region markerRegion(const CameraModel& camera, const MarkerShape& s, ColorClass color, double x,
+                           double y, double theta, double z) {
   const double c = std::cos(theta), sn = std::sin(theta);
   const Eigen::Vector3d centre(x + c * s.x - sn * s.y, y + sn * s.x + c * s.y, z);
   const auto px = camera.project(centre);
@@ -82,7 +82,8 @@ inline Region ballRegion(const CameraModel& camera, const Eigen::Vector3d& centr
 }
 
 // A disc-shaped blob of the given colour of `radius_m` on plane z at (x, y): stray paint.
-inline Region discBlob(const CameraModel& camera, ColorClass color, double x, double y, double radius_m, double z) {
+inline Region discBlob(const CameraModel& camera, ColorClass color, double x, double y, double radius_m,
+                       double z) {
   MarkerShape s;
   s.radius = radius_m;
   return markerRegion(camera, s, color, x, y, 0, z);

@@ -7,8 +7,6 @@
 // the image), false positives (a detection with no true robot of that team and id within
 // 50 mm), wrong ids (a detection within 50 mm of a true robot of another team/id), and
 // position / heading errors; the ball the same way.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,15 +15,17 @@
 #include <string>
 #include <vector>
 
-#include "soccer_vision/simulation/calibration_samples.h"
+#include <gtest/gtest.h>
+
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/calibration/color_calibration.h"
-#include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/identification/frame_identification.h"
-#include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/identification/image_footprint.h"
 #include "soccer_vision/identification/rigid_fit_2d.h"
 #include "soccer_vision/segmentation/segmenter.h"
+#include "soccer_vision/simulation/calibration_samples.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
 
 using namespace soccer_vision;
 
@@ -105,7 +105,8 @@ Figures measure(const ScenarioConfig& scenario, int frames, double step_s) {
           RenderedFrame frame;
           renderers[c]->render(preview.state(), index + 1, frame);
           calibration[c].push_back(
-              {frame.image.clone(), calibrationSamples(preview.state(), renderers[c]->camera(), field, patterns, options)});
+              {frame.image.clone(),
+               calibrationSamples(preview.state(), renderers[c]->camera(), field, patterns, options)});
         }
       }
     }
@@ -117,15 +118,16 @@ Figures measure(const ScenarioConfig& scenario, int frames, double step_s) {
   table_params.v_bins = 8;
   std::vector<std::shared_ptr<const SegmentationModel>> models;
   for (const auto& images : calibration) {
-    models.push_back(
-        SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateColorTable(images, table_params))));
+    models.push_back(SegmentationModel::fromTable(
+        std::make_shared<const ColorTable>(calibrateColorTable(images, table_params))));
   }
 
   // The identification camera: intrinsics as published, pose solved from the landmarks.
   std::vector<FrameIdentifier> identifiers;
   for (const auto& r : renderers) {
     const CameraIntrinsics& k = r->camera().intrinsics();
-    identifiers.emplace_back(solveCameraPose(k, fieldCorrespondences(r->camera(), field)).model(), patterns, field);
+    identifiers.emplace_back(solveCameraPose(k, fieldCorrespondences(r->camera(), field)).model(), patterns,
+                             field);
   }
 
   Figures fig;
@@ -135,8 +137,9 @@ Figures measure(const ScenarioConfig& scenario, int frames, double step_s) {
   for (int f = 0; f < frames; ++f) {
     for (int i = 0; i < steps; ++i, ++index) sim.step(1.0 / scenario.fps);
     // With motion blur the picture shows the exposure's middle: compare with that instant.
-    const SceneState scene = scenario.sensor.blur_samples > 1 ? extrapolate(sim.state(), scenario.sensor.exposure / 2)
-                                                              : sim.state();
+    const SceneState scene = scenario.sensor.blur_samples > 1
+                                 ? extrapolate(sim.state(), scenario.sensor.exposure / 2)
+                                 : sim.state();
     for (std::size_t c = 0; c < renderers.size(); ++c) {
       RenderedFrame frame;
       renderers[c]->render(sim.state(), index, frame);
@@ -144,7 +147,8 @@ Figures measure(const ScenarioConfig& scenario, int frames, double step_s) {
       fig.regions += seg.regions.size();
       const auto start = std::chrono::steady_clock::now();
       const CameraFrameDetections det = identifiers[c].identify(seg.regions, scene.time, static_cast<int>(c));
-      fig.identify_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+      fig.identify_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
       fig.detections += static_cast<int>(det.robots.size());
       for (const RobotState& t : scene.robots) {
         if (!renderers[c]->robotVisible(t)) continue;
@@ -186,20 +190,27 @@ Figures measure(const ScenarioConfig& scenario, int frames, double step_s) {
       }
     }
   }
-  std::printf("[ %s ] %d frames x 2 cameras: robots found %d / %d visible (%.2f %%); of those segmentation delivered "
-              "whole: %d / %d; false positives %d of %d detections, wrong ids %d\n",
-              scenario.name.c_str(), frames, fig.found, fig.visible, 100 * fig.rate(), fig.found_segmentable,
-              fig.segmentable, fig.false_positives, fig.detections, fig.wrong_ids);
-  std::printf("[ %s ] position error RMS %.2f mm, 95 %% %.2f mm, max %.2f mm; heading error RMS %.3f deg, 95 %% %.3f deg, "
-              "max %.3f deg\n",
-              scenario.name.c_str(), Figures::rms(fig.position_mm), Figures::quantile(fig.position_mm, 0.95),
-              Figures::quantile(fig.position_mm, 1.0), Figures::rms(fig.heading_deg),
-              Figures::quantile(fig.heading_deg, 0.95), Figures::quantile(fig.heading_deg, 1.0));
-  std::printf("[ %s ] ball found %d / %d, position error RMS %.2f mm, max %.2f mm; %d ball candidates not at a ball\n",
-              scenario.name.c_str(), fig.balls_found, fig.balls_visible, Figures::rms(fig.ball_mm),
-              Figures::quantile(fig.ball_mm, 1.0), fig.ball_false);
-  std::printf("[ %s ] identification %.3f ms per frame (median, %.1f regions per frame; for information only)\n",
-              scenario.name.c_str(), Figures::quantile(fig.identify_ms, 0.5), static_cast<double>(fig.regions) / fig.identify_ms.size());
+  std::printf(
+      "[ %s ] %d frames x 2 cameras: robots found %d / %d visible (%.2f %%); of those segmentation delivered "
+      "whole: %d / %d; false positives %d of %d detections, wrong ids %d\n",
+      scenario.name.c_str(), frames, fig.found, fig.visible, 100 * fig.rate(), fig.found_segmentable,
+      fig.segmentable, fig.false_positives, fig.detections, fig.wrong_ids);
+  std::printf(
+      "[ %s ] position error RMS %.2f mm, 95 %% %.2f mm, max %.2f mm; heading error RMS %.3f deg, 95 %% %.3f "
+      "deg, "
+      "max %.3f deg\n",
+      scenario.name.c_str(), Figures::rms(fig.position_mm), Figures::quantile(fig.position_mm, 0.95),
+      Figures::quantile(fig.position_mm, 1.0), Figures::rms(fig.heading_deg),
+      Figures::quantile(fig.heading_deg, 0.95), Figures::quantile(fig.heading_deg, 1.0));
+  std::printf(
+      "[ %s ] ball found %d / %d, position error RMS %.2f mm, max %.2f mm; %d ball candidates not at a "
+      "ball\n",
+      scenario.name.c_str(), fig.balls_found, fig.balls_visible, Figures::rms(fig.ball_mm),
+      Figures::quantile(fig.ball_mm, 1.0), fig.ball_false);
+  std::printf(
+      "[ %s ] identification %.3f ms per frame (median, %.1f regions per frame; for information only)\n",
+      scenario.name.c_str(), Figures::quantile(fig.identify_ms, 0.5),
+      static_cast<double>(fig.regions) / fig.identify_ms.size());
   return fig;
 }
 

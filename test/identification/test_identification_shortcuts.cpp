@@ -3,18 +3,17 @@
 // projectCentroidToPlane against projectToPlane's centre, CameraModel::project (inverse pose
 // kept) against the pose inverted per call. Equality is exact: identification's results
 // must not move by a bit.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <limits>
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/identification/image_footprint.h"
 #include "soccer_vision/identification/plane_region.h"
-#include "soccer_vision/common/robot_pattern.h"
 
 using namespace soccer_vision;
 
@@ -69,7 +68,8 @@ TEST(FootprintShortcuts, ExpectedMarkerAreaIsZeroBehindTheCamera) {
   const CameraModel camera = cameras().front();
   const MarkerShape disc = PatternSet::ssl().team_marker;
   const double above = camera.cameraCentre().z() + 0.5;
-  EXPECT_EQ(expectedMarkerArea(camera, disc, camera.cameraCentre().x(), camera.cameraCentre().y(), 0, above), 0.0);
+  EXPECT_EQ(expectedMarkerArea(camera, disc, camera.cameraCentre().x(), camera.cameraCentre().y(), 0, above),
+            0.0);
 }
 
 TEST(FootprintShortcuts, CentroidProjectionIsProjectToPlanesCentre) {

@@ -1,13 +1,13 @@
 // Identification on constructed region sets: regions as a perfect segmentation of robots
 // at known poses would give them (markers rasterised through the default camera), then
 // touching robots, missing markers, stray blobs and the 180° ambiguity.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdio>
 #include <optional>
 #include <random>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "region_builder.h"
 #include "soccer_vision/common/field_geometry.h"
@@ -105,8 +105,8 @@ TEST(RobotIdentification, TwoTagRobotsAtKnownPoses) {
   const RobotIdentifier id(kCamera, p);
   const auto found = id.identify(regionsOf(p, truth)).robots;
   const Errors e = expectExactly(found, truth, "two_tag");
-  std::printf("[ two_tag, exact regions ] worst position error %.3f mm, heading %.3f deg\n", 1000 * e.position,
-              e.heading_deg);
+  std::printf("[ two_tag, exact regions ] worst position error %.3f mm, heading %.3f deg\n",
+              1000 * e.position, e.heading_deg);
   EXPECT_LT(e.position, 0.0005);
   EXPECT_LT(e.heading_deg, 0.2);
   for (const auto& d : found) {
@@ -155,9 +155,12 @@ TEST(RobotIdentification, TouchingRobots) {
     for (double base : {0.0, 37.0, 90.0, 211.0}) {
       const double bx = -2.0, by = 0.5;
       const double c = std::cos(base * kDeg), s = std::sin(base * kDeg);
-      cases.push_back({robot(Team::Blue, 0, bx, by, base), robot(Team::Yellow, 1, bx + d * c, by + d * s, base + 180)});
-      cases.push_back({robot(Team::Blue, 1, bx, by, base + 180), robot(Team::Blue, 2, bx + d * c, by + d * s, base)});
-      cases.push_back({robot(Team::Yellow, 3, bx, by, base + 90), robot(Team::Yellow, 4, bx + d * c, by + d * s, base + 90)});
+      cases.push_back(
+          {robot(Team::Blue, 0, bx, by, base), robot(Team::Yellow, 1, bx + d * c, by + d * s, base + 180)});
+      cases.push_back(
+          {robot(Team::Blue, 1, bx, by, base + 180), robot(Team::Blue, 2, bx + d * c, by + d * s, base)});
+      cases.push_back({robot(Team::Yellow, 3, bx, by, base + 90),
+                       robot(Team::Yellow, 4, bx + d * c, by + d * s, base + 90)});
       cases.push_back({robot(Team::Blue, 3, bx, by, base), robot(Team::Blue, 4, bx + d * c, by + d * s, base),
                        robot(Team::Yellow, 0, bx + 2 * d * c, by + 2 * d * s, base)});
     }
@@ -182,8 +185,8 @@ TEST(RobotIdentification, TouchingRobots) {
       worst.position = std::max(worst.position, e.position);
       worst.heading_deg = std::max(worst.heading_deg, e.heading_deg);
     }
-    std::printf("[ %s, touching ] %zu cases: worst position error %.3f mm, heading %.3f deg\n", p.name.c_str(),
-                cases.size(), 1000 * worst.position, worst.heading_deg);
+    std::printf("[ %s, touching ] %zu cases: worst position error %.3f mm, heading %.3f deg\n",
+                p.name.c_str(), cases.size(), 1000 * worst.position, worst.heading_deg);
     EXPECT_LT(worst.position, 0.0005);
     EXPECT_LT(worst.heading_deg, 0.2);
   }
@@ -194,7 +197,8 @@ TEST(RobotIdentification, TouchingRobots) {
 // takes the neighbour's role tag. With report_unidentified it is reported with id -1.
 TEST(RobotIdentification, TwoTagMissingRoleTagGivesNoRobotAndNoWrongId) {
   const PatternSet p = PatternSet::twoTag();
-  const std::vector<RobotState> robots = {robot(Team::Blue, 2, -2.0, 0.3, 0), robot(Team::Blue, 3, -2.0 + 0.181, 0.3, 180),
+  const std::vector<RobotState> robots = {robot(Team::Blue, 2, -2.0, 0.3, 0),
+                                          robot(Team::Blue, 3, -2.0 + 0.181, 0.3, 180),
                                           robot(Team::Yellow, 2, -2.0, 0.3 + 0.181, -90)};
   const auto regions = regionsOf(p, robots, [](std::size_t r, std::size_t m) { return r == 0 && m == 1; });
   RobotIdentifier id(kCamera, p);
@@ -228,7 +232,8 @@ TEST(RobotIdentification, TwoTagMissingRoleTagGivesNoRobotAndNoWrongId) {
 // a pattern set whose ids leave that bit determined, the id is given at lower confidence.
 TEST(RobotIdentification, SslMissingDotIdOnlyWhenUnambiguous) {
   const PatternSet p = PatternSet::ssl();
-  const std::vector<RobotState> robots = {robot(Team::Yellow, 5, -1.5, -1.5, 30), robot(Team::Yellow, 9, -1.5 + 0.181, -1.5, 75)};
+  const std::vector<RobotState> robots = {robot(Team::Yellow, 5, -1.5, -1.5, 30),
+                                          robot(Team::Yellow, 9, -1.5 + 0.181, -1.5, 75)};
   // Marker 1 = slot 0 (front right) of robot 0.
   const auto regions = regionsOf(p, robots, [](std::size_t r, std::size_t m) { return r == 0 && m == 1; });
   RobotIdentifier id(kCamera, p);
@@ -251,9 +256,12 @@ TEST(RobotIdentification, SslMissingDotIdOnlyWhenUnambiguous) {
   // Ids 0..7 only: the front-right bit is always green (0), so its absence is harmless.
   PatternSet eight = p;
   eight.ids.resize(8);
-  std::vector<RobotState> small = {robot(Team::Blue, 5, -1.5, -1.5, 30), robot(Team::Blue, 6, -1.5 + 0.181, -1.5, 75)};
+  std::vector<RobotState> small = {robot(Team::Blue, 5, -1.5, -1.5, 30),
+                                   robot(Team::Blue, 6, -1.5 + 0.181, -1.5, 75)};
   const RobotIdentifier id8(kCamera, eight);
-  const auto found8 = id8.identify(regionsOf(eight, small, [](std::size_t r, std::size_t m) { return r == 0 && m == 1; })).robots;
+  const auto found8 =
+      id8.identify(regionsOf(eight, small, [](std::size_t r, std::size_t m) { return r == 0 && m == 1; }))
+          .robots;
   ASSERT_EQ(found8.size(), 2u);
   const RobotDetection* five = find(found8, Team::Blue, 5);
   const RobotDetection* six = find(found8, Team::Blue, 6);
@@ -262,7 +270,9 @@ TEST(RobotIdentification, SslMissingDotIdOnlyWhenUnambiguous) {
   EXPECT_LT(std::hypot(five->x - small[0].x, five->y - small[0].y), 0.0005);
   EXPECT_LT(std::abs(angleDifference(five->theta, small[0].theta)), 0.2 * kDeg);
   // A missing back-left dot (bit 1) is ambiguous even with 8 ids: not reported.
-  const auto found8b = id8.identify(regionsOf(eight, small, [](std::size_t r, std::size_t m) { return r == 0 && m == 3; })).robots;
+  const auto found8b =
+      id8.identify(regionsOf(eight, small, [](std::size_t r, std::size_t m) { return r == 0 && m == 3; }))
+          .robots;
   ASSERT_EQ(found8b.size(), 1u);
   EXPECT_EQ(found8b[0].id, 6);
 }
@@ -277,8 +287,8 @@ TEST(RobotIdentification, StrayBlobsAreNotRobots) {
   auto regions = regionsOf(p, truth);
   std::mt19937 rng(6);
   std::uniform_real_distribution<double> ux(-4.3, -0.2), uy(-2.8, 2.8), ur(0.006, 0.05);
-  const ColorClass colors[] = {ColorClass::Blue, ColorClass::Yellow, ColorClass::Pink, ColorClass::Purple,
-                               ColorClass::SkyBlue, ColorClass::Green, ColorClass::Red, ColorClass::Orange};
+  const ColorClass colors[] = {ColorClass::Blue,    ColorClass::Yellow, ColorClass::Pink, ColorClass::Purple,
+                               ColorClass::SkyBlue, ColorClass::Green,  ColorClass::Red,  ColorClass::Orange};
   for (int k = 0; k < 60; ++k) {
     regions.push_back(discBlob(kCamera, colors[k % 8], ux(rng), uy(rng), ur(rng), p.robot_height));
   }
@@ -295,8 +305,8 @@ TEST(RobotIdentification, StrayBlobsAreNotRobots) {
   // Robot 1 without its role tag but with a 4x too large blob of another role colour there.
   auto without = regionsOf(p, truth, [](std::size_t r, std::size_t m) { return r == 1 && m == 1; });
   const RobotState& r1 = truth[1];
-  without.push_back(discBlob(kCamera, ColorClass::Red, r1.x + 0.045 * std::cos(r1.theta), r1.y + 0.045 * std::sin(r1.theta),
-                             0.040, p.robot_height));
+  without.push_back(discBlob(kCamera, ColorClass::Red, r1.x + 0.045 * std::cos(r1.theta),
+                             r1.y + 0.045 * std::sin(r1.theta), 0.040, p.robot_height));
   const auto found = id.identify(without).robots;
   EXPECT_EQ(found.size(), truth.size() - 1);
   for (const auto& d : found) EXPECT_GT(std::hypot(d.x - r1.x, d.y - r1.y), 0.1);
@@ -351,22 +361,26 @@ TEST(RobotIdentification, TeamTagAxisRefinesTheHeading) {
   const std::vector<RobotState> one = {robot(Team::Blue, 0, -2.2, -0.4, 20)};
   auto regions = regionsOf(p, one);
   // Shift the role tag centroid 1.5 mm sideways (in pixels, through the local Jacobian).
-  const auto a = *kCamera.project({-2.2, -0.4, 0.15}), b = *kCamera.project({-2.2 - 0.0015 * std::sin(20 * kDeg), -0.4 + 0.0015 * std::cos(20 * kDeg), 0.15});
+  const auto a = *kCamera.project({-2.2, -0.4, 0.15}),
+             b = *kCamera.project(
+                 {-2.2 - 0.0015 * std::sin(20 * kDeg), -0.4 + 0.0015 * std::cos(20 * kDeg), 0.15});
   regions[1].cx += (b - a).x();
   regions[1].cy += (b - a).y();
   RobotIdentificationParams markers_only;
   markers_only.axis_weight = 0;
-  const double e0 = std::abs(angleDifference(RobotIdentifier(kCamera, p, markers_only).identify(regions).robots.at(0).theta, one[0].theta));
-  const double e1 = std::abs(angleDifference(RobotIdentifier(kCamera, p).identify(regions).robots.at(0).theta, one[0].theta));
-  std::printf("[ axis refinement ] heading error markers only %.3f deg, with the team-tag axis %.3f deg\n", e0 / kDeg,
-              e1 / kDeg);
+  const double e0 = std::abs(angleDifference(
+      RobotIdentifier(kCamera, p, markers_only).identify(regions).robots.at(0).theta, one[0].theta));
+  const double e1 = std::abs(
+      angleDifference(RobotIdentifier(kCamera, p).identify(regions).robots.at(0).theta, one[0].theta));
+  std::printf("[ axis refinement ] heading error markers only %.3f deg, with the team-tag axis %.3f deg\n",
+              e0 / kDeg, e1 / kDeg);
   EXPECT_GT(e0, 1.0 * kDeg);
   // The heading is the circular weighted mean: the axis removes its share of the error.
   EXPECT_NEAR(e1, (1 - RobotIdentificationParams{}.axis_weight) * e0, 0.05 * e0);
   // Regions of a Bayer mosaic's quads lean on the axis more (their small markers' centroids
   // are biased there).
-  const double e2 =
-      std::abs(angleDifference(RobotIdentifier(kCamera, p).identify(regions, true).robots.at(0).theta, one[0].theta));
+  const double e2 = std::abs(
+      angleDifference(RobotIdentifier(kCamera, p).identify(regions, true).robots.at(0).theta, one[0].theta));
   EXPECT_NEAR(e2, (1 - RobotIdentificationParams{}.axis_weight_mosaic) * e0, 0.05 * e0);
   EXPECT_LT(e2, 0.7 * e1);
 }
@@ -386,7 +400,8 @@ TEST(BallDetection, OrangeRegionsOfBallSizeOnTheFieldBestFirst) {
   regions.push_back(discBlob(kCamera, ColorClass::Orange, -3.0, -1.0, 0.004, 0.0215));  // a speck
   // A ball-sized orange region beyond the carpet (x < -4.8 - margin).
   const Eigen::Vector3d outside(-4.95, 1.0, 0.0215);
-  if (const auto px = kCamera.project(outside); px && kCamera.inImage(*px, 6)) regions.push_back(ballRegion(kCamera, outside));
+  if (const auto px = kCamera.project(outside); px && kCamera.inImage(*px, 6))
+    regions.push_back(ballRegion(kCamera, outside));
 
   const FrameIdentifier identify(kCamera, p, kField);
   const CameraFrameDetections d = identify.identify(regions, 12.5, 1, false);
@@ -421,7 +436,10 @@ TEST(BallDetection, FragmentsOfAStreakAreOneBall) {
   EXPECT_LT(std::hypot(balls[0].x - ball.x(), balls[0].y - ball.y()), 0.001);
   EXPECT_NEAR(balls[0].area_px, a.area + b.area, 1e-9);
   // Two balls 0.3 m apart stay two.
-  EXPECT_EQ(detector.detect({ballRegion(kCamera, ball), ballRegion(kCamera, ball + Eigen::Vector3d(0.3, 0, 0))}).size(), 2u);
+  EXPECT_EQ(
+      detector.detect({ballRegion(kCamera, ball), ballRegion(kCamera, ball + Eigen::Vector3d(0.3, 0, 0))})
+          .size(),
+      2u);
 }
 
 // A robot pattern that uses orange for an id marker: that region is the robot's, not a ball.

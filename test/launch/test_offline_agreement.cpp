@@ -37,7 +37,8 @@ std::size_t lineCount(const std::string& path) {
 }
 
 // Until the live results file has lines and has not grown for `quiet` (rosbag play done).
-std::size_t waitForLiveResults(const std::string& path, std::chrono::seconds quiet, std::chrono::seconds limit) {
+std::size_t waitForLiveResults(const std::string& path, std::chrono::seconds quiet,
+                               std::chrono::seconds limit) {
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + limit;
   std::size_t last = 0;
@@ -73,18 +74,22 @@ std::map<Identity, const RobotRecord*> measured(const FrameRecord& f) {
 
 TEST(OfflineAgreement, RosbagPlayAndInProcessRunAgree) {
   const std::string live_path = g_dir + "/live_results.jsonl";
-  const std::size_t live_lines = waitForLiveResults(live_path, std::chrono::seconds(5), std::chrono::seconds(150));
+  const std::size_t live_lines =
+      waitForLiveResults(live_path, std::chrono::seconds(5), std::chrono::seconds(150));
   ASSERT_GT(live_lines, 0u) << "the live pipeline wrote no results to " << live_path;
 
   std::string out;
-  const std::string common = " --bag " + g_dir + "/scenario.bag --colors " + g_dir + "/table.svct --camera-pose " +
-                             g_dir + "/camera_pose.yaml --skip-table2";
-  ASSERT_EQ(runTool(common + " --results " + g_dir + "/inprocess_results.jsonl --json " + g_dir + "/inprocess.json", &out), 0)
+  const std::string common = " --bag " + g_dir + "/scenario.bag --colors " + g_dir +
+                             "/table.svct --camera-pose " + g_dir + "/camera_pose.yaml --skip-table2";
+  ASSERT_EQ(
+      runTool(common + " --results " + g_dir + "/inprocess_results.jsonl --json " + g_dir + "/inprocess.json",
+              &out),
+      0)
       << out;
   std::printf("in-process:\n%s", out.c_str());
   out.clear();
-  ASSERT_EQ(runTool("--results-only --results " + live_path + " --truth " + g_dir + "/truth.jsonl --json " + g_dir +
-                        "/live.json",
+  ASSERT_EQ(runTool("--results-only --results " + live_path + " --truth " + g_dir + "/truth.jsonl --json " +
+                        g_dir + "/live.json",
                     &out),
             0)
       << out;
@@ -114,10 +119,12 @@ TEST(OfflineAgreement, RosbagPlayAndInProcessRunAgree) {
       ++compared;
     }
   }
-  std::printf("%zu in-process frames, %zu live, %zu common; identities equal in %zu; position difference mean %.3f mm, "
-              "max %.3f mm over %zu robots\n",
-              offline.size(), live.size(), common_frames, same_identities, compared ? 1e3 * sum_diff / compared : 0.0,
-              1e3 * max_diff, compared);
+  std::printf(
+      "%zu in-process frames, %zu live, %zu common; identities equal in %zu; position difference mean %.3f "
+      "mm, "
+      "max %.3f mm over %zu robots\n",
+      offline.size(), live.size(), common_frames, same_identities, compared ? 1e3 * sum_diff / compared : 0.0,
+      1e3 * max_diff, compared);
   EXPECT_GE(common_frames, offline.size() * 95 / 100) << "live pipeline lost more than 5 % of the frames";
   EXPECT_GE(same_identities, common_frames * 98 / 100);
   ASSERT_GT(compared, 0u);
@@ -127,7 +134,8 @@ TEST(OfflineAgreement, RosbagPlayAndInProcessRunAgree) {
   // And the scores agree: same detection rate within 1 % (frames lost live count as missed).
   std::ifstream a(g_dir + "/inprocess.json"), b(g_dir + "/live.json");
   const nlohmann::json ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
-  EXPECT_NEAR(jb["robots"]["detection_rate"].get<double>(), ja["robots"]["detection_rate"].get<double>(), 0.01);
+  EXPECT_NEAR(jb["robots"]["detection_rate"].get<double>(), ja["robots"]["detection_rate"].get<double>(),
+              0.01);
   EXPECT_GE(jb["robots"]["precision"].get<double>(), 0.999);
 }
 

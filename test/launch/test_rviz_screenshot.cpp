@@ -5,19 +5,20 @@
 // more, so the thresholds below need the markers to be drawn.
 //
 // Private parameters: ~screenshot (PNG path, default /tmp/soccer_vision_rviz.png),
-// ~settle [s] after the first markers (default 8), ~min_pixels per team (default 200; measured ~450-1200 with the markers, a few dozen without).
-#include <gtest/gtest.h>
-
-#include <X11/Xlib.h>
-#include <X11/Xutil.h>
-
+// ~settle [s] after the first markers (default 8), ~min_pixels per team (default 200; measured ~450-1200 with
+// the markers, a few dozen without).
 #include <cstdio>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
+
+// Xlib last: it defines macros (None, Status) that clash with gtest's and ROS's names.
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
 
 namespace {
 
@@ -88,8 +89,9 @@ TEST(RvizScreenshot, ShowsTheRobotsInTeamColours) {
       yellow += r > 120 && g > 100 && r > b + 100 && g > b + 80 && r >= g;
     }
   }
-  std::printf("[ rviz ] screenshot %s (%dx%d): %d blue-team pixels, %d yellow-team pixels, %zu robot markers\n",
-              path.c_str(), shot.cols, shot.rows, blue, yellow, robots_in_markers);
+  std::printf(
+      "[ rviz ] screenshot %s (%dx%d): %d blue-team pixels, %d yellow-team pixels, %zu robot markers\n",
+      path.c_str(), shot.cols, shot.rows, blue, yellow, robots_in_markers);
   EXPECT_GE(blue, min_pixels);
   EXPECT_GE(yellow, min_pixels);
 }

@@ -8,14 +8,13 @@
 // ~check_zero_copy (default true; false for images from rosbag play),
 // ~min_detection, ~min_precision, ~max_position_rmse [m], ~max_heading_rmse [deg],
 // ~min_ball_detection, ~min_ball_precision (the targets of the scenario under test).
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdint>
 #include <map>
 #include <mutex>
 #include <set>
 
+#include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <std_msgs/UInt64MultiArray.h>
@@ -25,8 +24,8 @@
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/SearchWindows.h"
-#include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/evaluation/scoring.h"
+#include "soccer_vision/ros/conversions.h"
 
 using namespace soccer_vision;
 
@@ -62,18 +61,21 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
     return [&rec, &into](const std_msgs::UInt64MultiArrayConstPtr& m) {
       if (m->data.size() < 3) return;
       std::lock_guard<std::mutex> lock(rec.mutex);
-      into[ros::Time(static_cast<std::uint32_t>(m->data[0]), static_cast<std::uint32_t>(m->data[1]))] = m->data[2];
+      into[ros::Time(static_cast<std::uint32_t>(m->data[0]), static_cast<std::uint32_t>(m->data[1]))] =
+          m->data[2];
     };
   };
   std::vector<ros::Subscriber> subs;
-  subs.push_back(sub<sensor_msgs::CameraInfo>(nh, "/camera_0/camera_info", [&](const sensor_msgs::CameraInfoConstPtr& m) {
-    std::lock_guard<std::mutex> lock(rec.mutex);
-    rec.image_stamps.insert(m->header.stamp);
-  }));
-  subs.push_back(sub<RobotPoseArray>(nh, "/camera_0/ground_truth/robots", [&](const RobotPoseArrayConstPtr& m) {
-    std::lock_guard<std::mutex> lock(rec.mutex);
-    rec.truth_robots[m->header.stamp] = m;
-  }));
+  subs.push_back(sub<sensor_msgs::CameraInfo>(nh, "/camera_0/camera_info",
+                                              [&](const sensor_msgs::CameraInfoConstPtr& m) {
+                                                std::lock_guard<std::mutex> lock(rec.mutex);
+                                                rec.image_stamps.insert(m->header.stamp);
+                                              }));
+  subs.push_back(
+      sub<RobotPoseArray>(nh, "/camera_0/ground_truth/robots", [&](const RobotPoseArrayConstPtr& m) {
+        std::lock_guard<std::mutex> lock(rec.mutex);
+        rec.truth_robots[m->header.stamp] = m;
+      }));
   subs.push_back(sub<BallPoseArray>(nh, "/camera_0/ground_truth/balls", [&](const BallPoseArrayConstPtr& m) {
     std::lock_guard<std::mutex> lock(rec.mutex);
     rec.truth_balls[m->header.stamp] = m;
@@ -120,14 +122,16 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
     for (const RobotPose& r : rec.robots.rbegin()->second->robots) {
       if (r.visible && r.id != 255) {
         robot = r;
-        robot_frame = std::string("robot/") + (r.team == RobotPose::TEAM_BLUE ? "blue_" : "yellow_") + std::to_string(r.id);
+        robot_frame = std::string("robot/") + (r.team == RobotPose::TEAM_BLUE ? "blue_" : "yellow_") +
+                      std::to_string(r.id);
         break;
       }
     }
   }
   EXPECT_TRUE(tf_buffer.canTransform("field", "camera_0_optical", ros::Time(0), ros::Duration(2.0)));
   ASSERT_FALSE(robot_frame.empty()) << "no measured robot in the last output";
-  ASSERT_TRUE(tf_buffer.canTransform("field", robot_frame, robot.header.stamp, ros::Duration(2.0))) << robot_frame;
+  ASSERT_TRUE(tf_buffer.canTransform("field", robot_frame, robot.header.stamp, ros::Duration(2.0)))
+      << robot_frame;
   const auto t = tf_buffer.lookupTransform("field", robot_frame, robot.header.stamp);
   EXPECT_NEAR(t.transform.translation.x, robot.x, 1e-6);
   EXPECT_NEAR(t.transform.translation.y, robot.y, 1e-6);
@@ -161,14 +165,18 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
     score.add(scoreFrame(toFrameRecord(*truth->second, tb != rec.truth_balls.end() ? *tb->second : no_balls),
                          toFrameRecord(*msg, b != rec.balls.end() ? *b->second : no_balls)));
   }
-  std::printf("[ vision pipeline ] %ld frames: robots detection %.3f %% (%ld/%ld), precision %.3f %%, identity errors "
-              "%ld, position RMSE %.2f mm, heading RMSE %.3f deg; ball detection %.3f %% (%ld/%ld), precision %.3f %%, "
-              "RMSE %.2f mm; %zu of %zu window messages windowed\n",
-              static_cast<long>(score.frames), 100 * score.robotDetectionRate(), static_cast<long>(score.matched_robots),
-              static_cast<long>(score.truth_robots), 100 * score.robotPrecision(), static_cast<long>(score.identity_errors),
-              1e3 * score.robotPositionRmse(), score.robotHeadingRmse() * 180 / M_PI, 100 * score.ballDetectionRate(),
-              static_cast<long>(score.matched_balls), static_cast<long>(score.truth_balls), 100 * score.ballPrecision(),
-              1e3 * score.ballPositionRmse(), rec.windowed_msgs, rec.windows_msgs);
+  std::printf(
+      "[ vision pipeline ] %ld frames: robots detection %.3f %% (%ld/%ld), precision %.3f %%, identity "
+      "errors "
+      "%ld, position RMSE %.2f mm, heading RMSE %.3f deg; ball detection %.3f %% (%ld/%ld), precision %.3f "
+      "%%, "
+      "RMSE %.2f mm; %zu of %zu window messages windowed\n",
+      static_cast<long>(score.frames), 100 * score.robotDetectionRate(),
+      static_cast<long>(score.matched_robots), static_cast<long>(score.truth_robots),
+      100 * score.robotPrecision(), static_cast<long>(score.identity_errors), 1e3 * score.robotPositionRmse(),
+      score.robotHeadingRmse() * 180 / M_PI, 100 * score.ballDetectionRate(),
+      static_cast<long>(score.matched_balls), static_cast<long>(score.truth_balls),
+      100 * score.ballPrecision(), 1e3 * score.ballPositionRmse(), rec.windowed_msgs, rec.windows_msgs);
   EXPECT_GT(score.frames, static_cast<std::int64_t>(20 * duration));  // at least 20 Hz scored
   EXPECT_GT(score.truth_robots, 3 * score.frames);                    // robots were in view
   EXPECT_GE(score.robotDetectionRate(), param("min_detection", 0.999));

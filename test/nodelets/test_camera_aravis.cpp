@@ -10,14 +10,12 @@
 //     maximum of 10) is refused and reset to the camera's value;
 //  3. killing the camera: frames stop, the source reports an error in /diagnostics; after a
 //     restart of the camera frames resume with later stamps.
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <signal.h>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -25,6 +23,7 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
+#include <sys/wait.h>
 
 namespace {
 
@@ -35,8 +34,7 @@ void startFake() {
   if (fake_pid == 0) {
     std::freopen("/dev/null", "w", stdout);
     std::freopen("/dev/null", "w", stderr);
-    ::execl(ARV_FAKE_GV_CAMERA, ARV_FAKE_GV_CAMERA, "-i", "127.0.0.1",
-            static_cast<char*>(nullptr));
+    ::execl(ARV_FAKE_GV_CAMERA, ARV_FAKE_GV_CAMERA, "-i", "127.0.0.1", static_cast<char*>(nullptr));
     ::_exit(127);
   }
 }
@@ -145,15 +143,13 @@ TEST(CameraAravis, FramesWithTheConfiguredFormatAndExposure) {
   EXPECT_NEAR(exposure, 5000, 1);
   ASSERT_TRUE(waitFor(
       [] {  // a status from after the open (before it the driver was retrying)
-        return rec->have_status &&
-               rec->source_status.level == diagnostic_msgs::DiagnosticStatus::OK &&
+        return rec->have_status && rec->source_status.level == diagnostic_msgs::DiagnosticStatus::OK &&
                value(rec->source_status, "stream completed buffers") != "" &&
                value(rec->source_status, "stream completed buffers") != "0";
       },
       10));
   std::lock_guard<std::mutex> l(rec->mutex);
-  EXPECT_EQ(rec->source_status.level, diagnostic_msgs::DiagnosticStatus::OK)
-      << rec->source_status.message;
+  EXPECT_EQ(rec->source_status.level, diagnostic_msgs::DiagnosticStatus::OK) << rec->source_status.message;
   EXPECT_EQ(value(rec->source_status, "camera"), "GV01");
   EXPECT_EQ(value(rec->source_status, "encoding"), "bayer_rggb8");
   EXPECT_GT(std::stoull(value(rec->source_status, "stream completed buffers")), 0u);
@@ -178,8 +174,7 @@ TEST(CameraAravis, VanishedCameraIsReportedAndFramesResume) {
   // Frames stop, the source reports the error.
   ASSERT_TRUE(waitFor(
       [&] {
-        return rec->have_status &&
-               rec->source_status.level == diagnostic_msgs::DiagnosticStatus::ERROR &&
+        return rec->have_status && rec->source_status.level == diagnostic_msgs::DiagnosticStatus::ERROR &&
                (ros::WallTime::now() - rec->arrivals.back()).toSec() > 1.0;
       },
       40))
@@ -188,19 +183,19 @@ TEST(CameraAravis, VanishedCameraIsReportedAndFramesResume) {
     std::lock_guard<std::mutex> l(rec->mutex);
     last_before = rec->stamps.back();
     EXPECT_LT((rec->arrivals.back() - killed).toSec(), 1.0);  // nothing after the queue ran dry
-    std::printf("error reported %.1f s after the kill: %s\n",
-                (ros::WallTime::now() - killed).toSec(), rec->source_status.message.c_str());
+    std::printf("error reported %.1f s after the kill: %s\n", (ros::WallTime::now() - killed).toSec(),
+                rec->source_status.message.c_str());
   }
   startFake();
   const ros::WallTime restarted = ros::WallTime::now();
-  ASSERT_TRUE(waitFor([&] { return rec->stamps.back() > last_before &&
-                                   rec->arrivals.back() > restarted; }, 40))
+  ASSERT_TRUE(
+      waitFor([&] { return rec->stamps.back() > last_before && rec->arrivals.back() > restarted; }, 40))
       << "no frames after the camera came back";
-  ASSERT_TRUE(waitFor([&] { return rec->stamps.size() >= 5 && rec->arrivals.back() > restarted +
-                                   ros::WallDuration(0.5); }, 10));
-  std::printf("frames again %.1f s after the restart\n", (ros::WallTime::now() - restarted).toSec());
   ASSERT_TRUE(waitFor(
-      [] { return rec->source_status.level == diagnostic_msgs::DiagnosticStatus::OK; }, 10));
+      [&] { return rec->stamps.size() >= 5 && rec->arrivals.back() > restarted + ros::WallDuration(0.5); },
+      10));
+  std::printf("frames again %.1f s after the restart\n", (ros::WallTime::now() - restarted).toSec());
+  ASSERT_TRUE(waitFor([] { return rec->source_status.level == diagnostic_msgs::DiagnosticStatus::OK; }, 10));
 }
 
 int main(int argc, char** argv) {

@@ -34,9 +34,9 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/sources/frame_source.h"
-#include "soccer_vision/common/robot_pattern.h"
 
 namespace sv = soccer_vision;
 
@@ -104,10 +104,9 @@ struct Recorder {
 // (illumination) on each class albedo.
 sv::ColorClass nearestClass(const cv::Vec3b& px) {
   const sv::ColorClass candidates[] = {
-      sv::ColorClass::Blue,   sv::ColorClass::Yellow, sv::ColorClass::Pink,
-      sv::ColorClass::Purple, sv::ColorClass::SkyBlue, sv::ColorClass::Green,
-      sv::ColorClass::Red,    sv::ColorClass::Orange, sv::ColorClass::Carpet,
-      sv::ColorClass::Line,   sv::ColorClass::RobotTop};
+      sv::ColorClass::Blue,    sv::ColorClass::Yellow, sv::ColorClass::Pink,    sv::ColorClass::Purple,
+      sv::ColorClass::SkyBlue, sv::ColorClass::Green,  sv::ColorClass::Red,     sv::ColorClass::Orange,
+      sv::ColorClass::Carpet,  sv::ColorClass::Line,   sv::ColorClass::RobotTop};
   const cv::Vec3f p(px[0], px[1], px[2]);
   sv::ColorClass best = sv::ColorClass::None;
   double best_d = 1e18;
@@ -134,8 +133,8 @@ class CameraDriverTest : public ::testing::Test {
     subs_.push_back(nh.subscribe("ground_truth/robots", 100, &Recorder::robotArray, &rec_));
     subs_.push_back(nh.subscribe("ground_truth/balls", 100, &Recorder::ballArray, &rec_));
     subs_.push_back(nh.subscribe("ground_truth/ball", 100, &Recorder::firstBall, &rec_));
-    camera_ = sv::CameraModel::defaultCamera(sv::FieldGeometry{}, params_.camera_id,
-                                             params_.width, params_.height);
+    camera_ =
+        sv::CameraModel::defaultCamera(sv::FieldGeometry{}, params_.camera_id, params_.width, params_.height);
   }
 
   // Collects `params_.frames` frames (after the first few, once every subscriber is
@@ -217,8 +216,8 @@ TEST_F(CameraDriverTest, StaticTfIsTheTrueCameraPose) {
   EXPECT_NEAR(t.transform.translation.y, pose.translation().y(), 1e-6);
   EXPECT_NEAR(t.transform.translation.z, pose.translation().z(), 1e-6);
   const Eigen::Quaterniond q(pose.rotation());
-  const Eigen::Quaterniond r(t.transform.rotation.w, t.transform.rotation.x,
-                             t.transform.rotation.y, t.transform.rotation.z);
+  const Eigen::Quaterniond r(t.transform.rotation.w, t.transform.rotation.x, t.transform.rotation.y,
+                             t.transform.rotation.z);
   EXPECT_NEAR(std::abs(q.dot(r)), 1.0, 1e-9);
 }
 
@@ -260,25 +259,23 @@ TEST_F(CameraDriverTest, GroundTruthMatchesRenderedFrames) {
       ++visible_robots;
       const double c = std::cos(r.theta), s = std::sin(r.theta);
       const double mx = pattern.team_marker.x, my = pattern.team_marker.y;
-      const Eigen::Vector3d p(r.x + c * mx - s * my, r.y + s * mx + c * my,
-                              pattern.robot_height);
+      const Eigen::Vector3d p(r.x + c * mx - s * my, r.y + s * mx + c * my, pattern.robot_height);
       const auto px = camera_.project(p);
       ASSERT_TRUE(px.has_value());
       ASSERT_TRUE(camera_.inImage(*px)) << "visible robot projects outside the image";
       const int u = static_cast<int>(std::lround(px->x()));
       const int v = static_cast<int>(std::lround(px->y()));
-      const sv::ColorClass expected = r.team == soccer_vision::RobotPose::TEAM_BLUE
-                                          ? sv::ColorClass::Blue
-                                          : sv::ColorClass::Yellow;
+      const sv::ColorClass expected =
+          r.team == soccer_vision::RobotPose::TEAM_BLUE ? sv::ColorClass::Blue : sv::ColorClass::Yellow;
       ++robot_checks;
       const sv::ColorClass got = nearestClass(bgr.at<cv::Vec3b>(v, u));
       if (got == expected) {
         ++robot_ok;
       } else if (mismatches.size() < 5) {
         std::ostringstream os;
-        os << "\n  " << (r.team == soccer_vision::RobotPose::TEAM_BLUE ? "blue" : "yellow")
-           << " " << int(r.id) << " at (" << r.x << ", " << r.y << ") -> pixel (" << u << ", "
-           << v << ") shows " << sv::colorClassName(got);
+        os << "\n  " << (r.team == soccer_vision::RobotPose::TEAM_BLUE ? "blue" : "yellow") << " "
+           << int(r.id) << " at (" << r.x << ", " << r.y << ") -> pixel (" << u << ", " << v << ") shows "
+           << sv::colorClassName(got);
         mismatches += os.str();
       }
     }
@@ -303,14 +300,15 @@ TEST_F(CameraDriverTest, GroundTruthMatchesRenderedFrames) {
   }
   EXPECT_GE(gt_frames, 20) << "ground truth must come with the images (same stamps)";
   EXPECT_GE(visible_robots, 2 * gt_frames) << "too few robots in view to test anything";
-  std::printf("[ ground truth ] %d frames, team colour at %d of %d visible robots, orange at %d "
-              "of %d visible balls, %d robot samples out of view\n",
-              gt_frames, robot_ok, robot_checks, ball_ok, ball_checks, invisible_robots);
+  std::printf(
+      "[ ground truth ] %d frames, team colour at %d of %d visible robots, orange at %d "
+      "of %d visible balls, %d robot samples out of view\n",
+      gt_frames, robot_ok, robot_checks, ball_ok, ball_checks, invisible_robots);
   ASSERT_GT(robot_checks, 0);
   const double robot_rate = static_cast<double>(robot_ok) / robot_checks;
   EXPECT_GE(robot_rate, params_.min_color_match)
-      << robot_ok << " of " << robot_checks << " team markers show the team colour; first misses:"
-      << mismatches;
+      << robot_ok << " of " << robot_checks
+      << " team markers show the team colour; first misses:" << mismatches;
   if (ball_checks > 0) {
     EXPECT_GE(static_cast<double>(ball_ok) / ball_checks, params_.min_color_match)
         << ball_ok << " of " << ball_checks << " balls show orange";
@@ -351,8 +349,7 @@ TEST_F(CameraDriverTest, ReconfigureBrightnessAndFps) {
   };
   auto after_change = [&](std::size_t n) {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
-    while (rec_.imageCount() < n + 2 && ros::WallTime::now() < deadline)
-      ros::WallDuration(0.01).sleep();
+    while (rec_.imageCount() < n + 2 && ros::WallTime::now() < deadline) ros::WallDuration(0.01).sleep();
     std::lock_guard<std::mutex> l(rec_.mutex);
     // The frame in flight during the call may still have the old settings.
     return std::vector<sensor_msgs::ImageConstPtr>(
@@ -369,8 +366,7 @@ TEST_F(CameraDriverTest, ReconfigureBrightnessAndFps) {
   EXPECT_LT(after, 0.75 * before) << "brightness 0.5 must darken the frames";
   EXPECT_GT(after, 0.25 * before);
   for (std::size_t i = 1; i < dim.size(); ++i)
-    EXPECT_NEAR((dim[i]->header.stamp - dim[i - 1]->header.stamp).toSec(), 2.0 / params_.fps,
-                1e-4)
+    EXPECT_NEAR((dim[i]->header.stamp - dim[i - 1]->header.stamp).toSec(), 2.0 / params_.fps, 1e-4)
         << "frames must come at the new rate";
 
   reconfigure(1.0, params_.fps);
@@ -378,8 +374,7 @@ TEST_F(CameraDriverTest, ReconfigureBrightnessAndFps) {
   ASSERT_GE(back.size(), 10u);
   EXPECT_NEAR(mean_level(back), before, 0.1 * before);
   for (std::size_t i = 1; i < back.size(); ++i)
-    EXPECT_NEAR((back[i]->header.stamp - back[i - 1]->header.stamp).toSec(), 1.0 / params_.fps,
-                1e-4);
+    EXPECT_NEAR((back[i]->header.stamp - back[i - 1]->header.stamp).toSec(), 1.0 / params_.fps, 1e-4);
 }
 
 }  // namespace

@@ -6,14 +6,13 @@
 // Tests run in declaration order:
 //  1. the v4l2 driver on /dev/video99 reports the missing device in /diagnostics (ERROR,
 //     naming the device) and keeps retrying without crashing;
-//  2. once the images exist (a folder renamed into place), camera_0 publishes them in file order, looping, bgr8 64x48,
+//  2. once the images exist (a folder renamed into place), camera_0 publishes them in file order, looping,
+//  bgr8 64x48,
 //     with strictly increasing stamps 1/20 s apart and camera_info of the same stamps;
 //  3. zero copy: the driver's published buffer address equals the address the Segmentation
 //     of the same manager received, for the same stamps;
 //  4. fps 40 through dynamic_reconfigure halves the stamp interval;
 //  5. the v4l2 driver is still retrying (diagnostics keep coming), the manager is alive.
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -29,6 +28,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/UInt64MultiArray.h>
+#include <sys/stat.h>
 
 namespace {
 
@@ -77,8 +77,7 @@ struct Recorder {
                       const std_msgs::UInt64MultiArrayConstPtr& m) {
     if (m->data.size() != 3) return;
     std::lock_guard<std::mutex> l(mutex);
-    map[ros::Time(static_cast<uint32_t>(m->data[0]), static_cast<uint32_t>(m->data[1]))] =
-        m->data[2];
+    map[ros::Time(static_cast<uint32_t>(m->data[0]), static_cast<uint32_t>(m->data[1]))] = m->data[2];
   }
 };
 
@@ -112,8 +111,7 @@ double medianInterval(const std::vector<std::pair<ros::Time, int>>& frames) {
 // The latest status of camera_1's source (name contains "camera_1" and "source").
 bool v4l2Status(diagnostic_msgs::DiagnosticStatus& out) {
   for (auto it = rec->diagnostics.rbegin(); it != rec->diagnostics.rend(); ++it)
-    if (it->name.find("camera_1") != std::string::npos &&
-        it->name.find("source") != std::string::npos) {
+    if (it->name.find("camera_1") != std::string::npos && it->name.find("source") != std::string::npos) {
       out = *it;
       return true;
     }
@@ -220,8 +218,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "test_camera_sources");
   ros::NodeHandle nh, pnh("~");
   pnh.param<std::string>("dir", dir, "/tmp/soccer_vision_test_camera_sources");
-  if (std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str()) != 0)
-    return 1;
+  if (std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str()) != 0) return 1;
   rec = new Recorder;
   subs = new std::vector<ros::Subscriber>;
   subs->push_back(nh.subscribe("/camera_0/image_raw", 100, &Recorder::image, rec));
@@ -229,13 +226,11 @@ int main(int argc, char** argv) {
   subs->push_back(nh.subscribe("/diagnostics", 100, &Recorder::diag, rec));
   using AddressCallback = boost::function<void(const std_msgs::UInt64MultiArrayConstPtr&)>;
   subs->push_back(nh.subscribe<std_msgs::UInt64MultiArray>(
-      "/camera_0/debug/published_address", 100, AddressCallback([](const auto& m) {
-        Recorder::address(rec->published, rec->mutex, m);
-      })));
+      "/camera_0/debug/published_address", 100,
+      AddressCallback([](const auto& m) { Recorder::address(rec->published, rec->mutex, m); })));
   subs->push_back(nh.subscribe<std_msgs::UInt64MultiArray>(
-      "/camera_0/debug/image_data_address", 100, AddressCallback([](const auto& m) {
-        Recorder::address(rec->received, rec->mutex, m);
-      })));
+      "/camera_0/debug/image_data_address", 100,
+      AddressCallback([](const auto& m) { Recorder::address(rec->received, rec->mutex, m); })));
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const int result = RUN_ALL_TESTS();

@@ -18,8 +18,6 @@
 //  5. /diagnostics report the table, the frame rate and the processing time;
 //  6. zero copy: the frame buffer address the probe CameraDriver published equals the address the
 //     Segmentation of the same manager segmented.
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,18 +35,19 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/UInt64MultiArray.h>
+#include <sys/stat.h>
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/BlobArray.h"
 #include "soccer_vision/Calibrate.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/common/camera_model.h"
-#include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/common/field_geometry.h"
-#include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/simulation/calibration_samples.h"
+#include "soccer_vision/simulation/field_renderer.h"
 
 namespace sv = soccer_vision;
 
@@ -91,8 +90,7 @@ struct Recorder {
                       const std_msgs::UInt64MultiArrayConstPtr& m) {
     if (m->data.size() != 3) return;
     std::lock_guard<std::mutex> l(mutex);
-    map[ros::Time(static_cast<uint32_t>(m->data[0]), static_cast<uint32_t>(m->data[1]))] =
-        m->data[2];
+    map[ros::Time(static_cast<uint32_t>(m->data[0]), static_cast<uint32_t>(m->data[1]))] = m->data[2];
   }
 };
 
@@ -135,9 +133,7 @@ class SegmentationTest : public ::testing::Test {
     delete rec_;
   }
 
-  void SetUp() override {
-    camera_ = sv::CameraModel::defaultCamera(field_, 0, width_, height_);
-  }
+  void SetUp() override { camera_ = sv::CameraModel::defaultCamera(field_, 0, width_, height_); }
 
   static std::size_t imageCount() {
     std::lock_guard<std::mutex> l(rec_->mutex);
@@ -149,9 +145,8 @@ class SegmentationTest : public ::testing::Test {
   }
   // Waits for n BlobArrays received after now (skipping `skip` first ones: frames in flight
   // during a change may still use the previous table).
-  static std::vector<soccer_vision::BlobArrayConstPtr> collectBlobs(std::size_t n,
-                                                                     std::size_t skip = 2,
-                                                                     double timeout = 20.0) {
+  static std::vector<soccer_vision::BlobArrayConstPtr> collectBlobs(std::size_t n, std::size_t skip = 2,
+                                                                    double timeout = 20.0) {
     clearBlobs();
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
     while (ros::WallTime::now() < deadline) {
@@ -163,8 +158,7 @@ class SegmentationTest : public ::testing::Test {
     }
     std::lock_guard<std::mutex> l(rec_->mutex);
     if (rec_->blobs.size() <= skip) return {};
-    return std::vector<soccer_vision::BlobArrayConstPtr>(rec_->blobs.begin() + skip,
-                                                         rec_->blobs.end());
+    return std::vector<soccer_vision::BlobArrayConstPtr>(rec_->blobs.begin() + skip, rec_->blobs.end());
   }
 
   // The scene from the latest ground truth (robots and balls of one stamp).
@@ -179,8 +173,7 @@ class SegmentationTest : public ::testing::Test {
           scene = sv::SceneState();
           for (const auto& r : it->second->robots) {
             sv::RobotState s;
-            s.team = r.team == soccer_vision::RobotPose::TEAM_BLUE ? sv::Team::Blue
-                                                                   : sv::Team::Yellow;
+            s.team = r.team == soccer_vision::RobotPose::TEAM_BLUE ? sv::Team::Blue : sv::Team::Yellow;
             s.id = r.id;
             s.x = r.x;
             s.y = r.y;
@@ -241,8 +234,8 @@ class SegmentationTest : public ::testing::Test {
   std::optional<Eigen::Vector2d> markerPixel(const soccer_vision::RobotPose& r,
                                              const sv::MarkerShape& m) const {
     const double c = std::cos(r.theta), s = std::sin(r.theta);
-    return camera_.project(Eigen::Vector3d(r.x + c * m.x - s * m.y, r.y + s * m.x + c * m.y,
-                                           pattern_.robot_height));
+    return camera_.project(
+        Eigen::Vector3d(r.x + c * m.x - s * m.y, r.y + s * m.x + c * m.y, pattern_.robot_height));
   }
 
   // Blob arrays against the ground truth of their stamps (stamps, counts, centroids).
@@ -267,8 +260,7 @@ TEST_F(SegmentationTest, NoTableDropsFrames) {
   while (imageCount() < 5 && ros::WallTime::now() < deadline) ros::WallDuration(0.01).sleep();
   clearBlobs();
   const std::size_t before = imageCount();
-  while (imageCount() < before + 15 && ros::WallTime::now() < deadline)
-    ros::WallDuration(0.01).sleep();
+  while (imageCount() < before + 15 && ros::WallTime::now() < deadline) ros::WallDuration(0.01).sleep();
   ASSERT_GE(imageCount(), before + 15) << "too few frames (camera_info)";
   std::lock_guard<std::mutex> l(rec_->mutex);
   EXPECT_TRUE(rec_->blobs.empty()) << "no colour table (missing file): frames must be dropped";
@@ -276,10 +268,8 @@ TEST_F(SegmentationTest, NoTableDropsFrames) {
 
 TEST_F(SegmentationTest, CalibratedBlobsMatchGroundTruth) {
   ros::NodeHandle nh;
-  ros::Subscriber debug_sub =
-      nh.subscribe("debug/classification", 5, &Recorder::debugImage, rec_);
-  const soccer_vision::Calibrate::Response res =
-      calibrate(sv::toYaml(samples()), true, dir_ + "/full.svct");
+  ros::Subscriber debug_sub = nh.subscribe("debug/classification", 5, &Recorder::debugImage, rec_);
+  const soccer_vision::Calibrate::Response res = calibrate(sv::toYaml(samples()), true, dir_ + "/full.svct");
   ASSERT_TRUE(res.success) << res.message;
   std::printf("[ calibrate ] %s\n", res.message.c_str());
   EXPECT_NE(res.message.find("blue"), std::string::npos);
@@ -354,8 +344,7 @@ void SegmentationTest::checkBlobs(const std::vector<soccer_vision::BlobArrayCons
         const auto px = markerPixel(r, markers.front().shape);
         if (!r.visible) {
           // Partly in the image: its team marker may or may not form a blob.
-          if (px && px->x() > -20 && px->y() > -20 && px->x() < width_ + 20 &&
-              px->y() < height_ + 20)
+          if (px && px->x() > -20 && px->y() > -20 && px->x() < width_ + 20 && px->y() < height_ + 20)
             ++border;
           continue;
         }
@@ -380,9 +369,9 @@ void SegmentationTest::checkBlobs(const std::vector<soccer_vision::BlobArrayCons
               ++role_found;
             } else if (role_missing.size() < 400) {
               role_missing += std::string("\n  ") + std::string(sv::colorClassName(markers[k].color)) +
-                              " of " + std::string(sv::colorClassName(color)) + " " +
-                              std::to_string(r.id) + " at (" + std::to_string(mp->x()) + ", " +
-                              std::to_string(mp->y()) + "): nearest " + std::to_string(best) + " px";
+                              " of " + std::string(sv::colorClassName(color)) + " " + std::to_string(r.id) +
+                              " at (" + std::to_string(mp->x()) + ", " + std::to_string(mp->y()) +
+                              "): nearest " + std::to_string(best) + " px";
             }
             worst_role = std::max(worst_role, best);
           }
@@ -390,9 +379,8 @@ void SegmentationTest::checkBlobs(const std::vector<soccer_vision::BlobArrayCons
       }
       const int blobs = countColor(*a, color);
       EXPECT_GE(blobs, visible) << sv::colorClassName(color) << " blobs at " << a->header.stamp;
-      EXPECT_LE(blobs, visible + border) << sv::colorClassName(color) << " blobs at "
-                                         << a->header.stamp << " (" << border
-                                         << " robots at the border)";
+      EXPECT_LE(blobs, visible + border) << sv::colorClassName(color) << " blobs at " << a->header.stamp
+                                         << " (" << border << " robots at the border)";
     }
     for (const auto& ball : bit->second->balls) {
       if (!ball.visible) continue;
@@ -407,14 +395,14 @@ void SegmentationTest::checkBlobs(const std::vector<soccer_vision::BlobArrayCons
       EXPECT_LT(best, 2.0) << "ball blob centroid vs projected ball centre [px]";
     }
   }
-  std::printf("[ blobs ] %d frames with ground truth: %d team markers (worst %.3f px), "
-              "%d of %d role markers within 1.5 px (worst %.3f px), %d balls (worst %.3f px)\n",
-              frames_checked, team_robots, worst_team, role_found, role_checked, worst_role,
-              balls, worst_ball);
+  std::printf(
+      "[ blobs ] %d frames with ground truth: %d team markers (worst %.3f px), "
+      "%d of %d role markers within 1.5 px (worst %.3f px), %d balls (worst %.3f px)\n",
+      frames_checked, team_robots, worst_team, role_found, role_checked, worst_role, balls, worst_ball);
   EXPECT_GE(frames_checked, 20) << "ground truth must come with the frames";
   EXPECT_GE(team_robots, 2 * frames_checked) << "too few robots in view to test anything";
-  EXPECT_EQ(role_found, role_checked) << "every role marker of a visible robot needs its blob:"
-                                      << role_missing;
+  EXPECT_EQ(role_found, role_checked)
+      << "every role marker of a visible robot needs its blob:" << role_missing;
 }
 
 TEST_F(SegmentationTest, CalibrateSwapsTable) {
@@ -435,9 +423,9 @@ TEST_F(SegmentationTest, CalibrateSwapsTable) {
   }
 
   // A failing calibration (bad YAML, unknown class, polygons off the image) keeps the table.
-  for (const std::string& bad : {std::string("pink: [[[1, 2], [3"),
-                                std::string("magenta:\n  - [[1, 1], [5, 1], [5, 5]]\n"),
-                                std::string("blue:\n  - [[-50, -50], [-40, -50], [-40, -40]]\n")}) {
+  for (const std::string& bad :
+       {std::string("pink: [[[1, 2], [3"), std::string("magenta:\n  - [[1, 1], [5, 1], [5, 5]]\n"),
+        std::string("blue:\n  - [[-50, -50], [-40, -50], [-40, -40]]\n")}) {
     res = calibrate(bad, false, "");
     EXPECT_FALSE(res.success) << bad;
     EXPECT_FALSE(res.message.empty());
@@ -524,9 +512,8 @@ TEST_F(SegmentationTest, Diagnostics) {
   EXPECT_GT(mean_ms, 0.0);
   EXPECT_GE(std::stod(values["processing time max [ms]"]), mean_ms);
   EXPECT_GT(std::stod(values["regions per frame blue"]), 0.0);
-  std::printf("[ diagnostics ] %s: %.1f Hz, %.2f ms mean, %.2f ms max per frame\n",
-              found.message.c_str(), std::stod(values["frame rate [Hz]"]), mean_ms,
-              std::stod(values["processing time max [ms]"]));
+  std::printf("[ diagnostics ] %s: %.1f Hz, %.2f ms mean, %.2f ms max per frame\n", found.message.c_str(),
+              std::stod(values["frame rate [Hz]"]), mean_ms, std::stod(values["processing time max [ms]"]));
 }
 
 TEST_F(SegmentationTest, ZeroCopyInOneManager) {
@@ -546,8 +533,7 @@ TEST_F(SegmentationTest, ZeroCopyInOneManager) {
     if (matched >= 20) break;
     ros::WallDuration(0.05).sleep();
   }
-  std::printf("[ zero copy ] %d of %d frames segmented from the published buffer\n", equal,
-              matched);
+  std::printf("[ zero copy ] %d of %d frames segmented from the published buffer\n", equal, matched);
   ASSERT_GE(matched, 20) << "too few address reports from " << probe_ns_;
   EXPECT_EQ(equal, matched) << "the Segmentation must see the publisher's buffer, not a copy";
 }

@@ -16,15 +16,15 @@
 
 #include <gtest/gtest.h>
 
-#include "soccer_vision/simulation/field_renderer.h"
-#include "soccer_vision/identification/frame_identification.h"
-#include "soccer_vision/simulation/game_simulator.h"
-#include "soccer_vision/tracking/result_recording.h"
 #include "soccer_vision/evaluation/scoring.h"
-#include "soccer_vision/segmentation/segmenter.h"
-#include "soccer_vision/simulation/synthetic_calibration.h"
-#include "soccer_vision/tracking/tracker.h"
+#include "soccer_vision/identification/frame_identification.h"
 #include "soccer_vision/pipeline/vision_pipeline.h"
+#include "soccer_vision/segmentation/segmenter.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
+#include "soccer_vision/simulation/synthetic_calibration.h"
+#include "soccer_vision/tracking/result_recording.h"
+#include "soccer_vision/tracking/tracker.h"
 
 using namespace soccer_vision;
 
@@ -46,7 +46,8 @@ struct PresetRig {
         patterns(patternSetByName(scenario.pattern)),
         camera(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height)),
         renderer(camera, field, patterns, scenario),
-        model(SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, 0)))),
+        model(SegmentationModel::fromTable(
+            std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, 0)))),
         identifier(camera, patterns, field),
         sim(scenario, field, patterns.maxRobotsPerTeam()) {}
 
@@ -125,8 +126,8 @@ LagFigures constantVelocityLag(double measurement_offset) {
 TEST(MeasurementOffset, RemovesTheLagBiasOfAConstantVelocityTarget) {
   // Taken at the stamp, a mid-exposure measurement is ahead by v x exposure / 2.
   const LagFigures without = constantVelocityLag(0.0);
-  EXPECT_NEAR(without.robot_mean_error, 5.0 * kExposure / 2, 0.001);   // 10 mm
-  EXPECT_NEAR(without.ball_mean_error, 15.0 * kExposure / 2, 0.002);   // 30 mm
+  EXPECT_NEAR(without.robot_mean_error, 5.0 * kExposure / 2, 0.001);  // 10 mm
+  EXPECT_NEAR(without.ball_mean_error, 15.0 * kExposure / 2, 0.002);  // 30 mm
   const LagFigures with = constantVelocityLag(kExposure / 2);
   EXPECT_LT(std::abs(with.robot_mean_error), 0.0002);
   EXPECT_LT(std::abs(with.ball_mean_error), 0.0005);
@@ -147,7 +148,7 @@ TEST(MeasurementOffset, PerCameraOffsetsReplaceTheDefault) {
   EXPECT_DOUBLE_EQ(tracker.time(), kT0 + 0.005);  // the filters run on measurement times
   const TrackerOutput out = tracker.output(kT0);
   ASSERT_EQ(out.robots.size(), 1u);
-  EXPECT_TRUE(out.robots.front().visible);  // measured in the frame of this stamp
+  EXPECT_TRUE(out.robots.front().visible);                  // measured in the frame of this stamp
   EXPECT_DOUBLE_EQ(out.robots.front().last_measured, kT0);  // capture stamps outside
 }
 
@@ -231,8 +232,8 @@ TEST(BlurredCalibration, FastBallStreakIsFoundAtItsMidExposurePosition) {
       }
     }
   }
-  std::printf("ball at >= 8 m/s: found in %d of %d frames, RMSE %.1f mm against the mid-exposure position\n", found,
-              fast, 1e3 * std::sqrt(sq / std::max(found, 1)));
+  std::printf("ball at >= 8 m/s: found in %d of %d frames, RMSE %.1f mm against the mid-exposure position\n",
+              found, fast, 1e3 * std::sqrt(sq / std::max(found, 1)));
   ASSERT_GT(fast, 30);
   EXPECT_GE(found, 0.9 * fast);  // polygons at the exposure start (before): 7 % of all frames
   EXPECT_LT(std::sqrt(sq / std::max(found, 1)), 0.010);
@@ -259,18 +260,22 @@ TEST(BlurredIdentification, FastRobotsAreIdentifiedAtTheirMidExposurePose) {
         if (e > 0.05) continue;
         ++found;
         sq += e * e;
-        sq_at_stamp += std::pow(det.x - sim.state().robots[i].x, 2) + std::pow(det.y - sim.state().robots[i].y, 2);
+        sq_at_stamp +=
+            std::pow(det.x - sim.state().robots[i].x, 2) + std::pow(det.y - sim.state().robots[i].y, 2);
         break;
       }
     }
   }
-  const double rmse = std::sqrt(sq / std::max(found, 1)), rmse_at_stamp = std::sqrt(sq_at_stamp / std::max(found, 1));
-  std::printf("robots at >= 3 m/s: identified in %d of %d cases; RMSE %.2f mm against the mid-exposure pose, %.1f mm "
-              "against the pose at the stamp\n", found, fast, 1e3 * rmse, 1e3 * rmse_at_stamp);
+  const double rmse = std::sqrt(sq / std::max(found, 1)),
+               rmse_at_stamp = std::sqrt(sq_at_stamp / std::max(found, 1));
+  std::printf(
+      "robots at >= 3 m/s: identified in %d of %d cases; RMSE %.2f mm against the mid-exposure pose, %.1f mm "
+      "against the pose at the stamp\n",
+      found, fast, 1e3 * rmse, 1e3 * rmse_at_stamp);
   ASSERT_GT(fast, 300);
   EXPECT_GE(found, 0.985 * fast);
-  EXPECT_LT(rmse, 0.001);          // the centroids are where the robots were mid-exposure ...
-  EXPECT_GT(rmse_at_stamp, 0.006); // ... 8-10 mm ahead of where they were at the stamp
+  EXPECT_LT(rmse, 0.001);           // the centroids are where the robots were mid-exposure ...
+  EXPECT_GT(rmse_at_stamp, 0.006);  // ... 8-10 mm ahead of where they were at the stamp
 }
 
 namespace {
@@ -284,8 +289,9 @@ Score runPipeline(const std::string& name, int frames) {
   PipelineCamera camera;
   camera.model = rig.camera;
   camera.segmentation = rig.model;
-  camera.layout =
-      scenario.sensor.bayer.empty() ? PixelLayout::Bgr : *pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
+  camera.layout = scenario.sensor.bayer.empty()
+                      ? PixelLayout::Bgr
+                      : *pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
   VisionPipelineParams params;
   params.tracker.measurement_offset = shownTimeAfterStamp(scenario.sensor);
   VisionPipeline pipeline({camera}, rig.patterns, rig.field, params);
@@ -299,16 +305,18 @@ Score runPipeline(const std::string& name, int frames) {
     if (i < 30) continue;
     FrameRecord truth;
     truth.stamp = s.time;
-    for (const RobotState& r : s.robots) truth.robots.push_back({r.team, r.id, r.x, r.y, r.theta, rig.renderer.robotVisible(r), {}});
+    for (const RobotState& r : s.robots)
+      truth.robots.push_back({r.team, r.id, r.x, r.y, r.theta, rig.renderer.robotVisible(r), {}});
     for (const BallState& b : s.balls) truth.balls.push_back({b.x, b.y, rig.renderer.ballVisible(b), {}});
     total.add(scoreFrame(truth, toFrameRecord(out.output)));
   }
-  std::printf("%s, %d frames: robots %.2f %% found, %.2f %% precise, %ld identity errors, RMSE %.2f mm, heading "
-              "%.2f deg; ball %.2f %% / %.2f %%, RMSE %.1f mm\n",
-              scenario.name.c_str(), frames, 100 * total.robotDetectionRate(), 100 * total.robotPrecision(),
-              static_cast<long>(total.identity_errors), 1e3 * total.robotPositionRmse(),
-              total.robotHeadingRmse() * 180 / M_PI, 100 * total.ballDetectionRate(), 100 * total.ballPrecision(),
-              1e3 * total.ballPositionRmse());
+  std::printf(
+      "%s, %d frames: robots %.2f %% found, %.2f %% precise, %ld identity errors, RMSE %.2f mm, heading "
+      "%.2f deg; ball %.2f %% / %.2f %%, RMSE %.1f mm\n",
+      scenario.name.c_str(), frames, 100 * total.robotDetectionRate(), 100 * total.robotPrecision(),
+      static_cast<long>(total.identity_errors), 1e3 * total.robotPositionRmse(),
+      total.robotHeadingRmse() * 180 / M_PI, 100 * total.ballDetectionRate(), 100 * total.ballPrecision(),
+      1e3 * total.ballPositionRmse());
   return total;
 }
 

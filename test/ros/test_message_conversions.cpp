@@ -1,8 +1,8 @@
 // Core types <-> messages of the vision pipeline, and the rviz markers built from them.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <set>
+
+#include <gtest/gtest.h>
 
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"

@@ -1,11 +1,10 @@
 // Bit-packed morphology against OpenCV (cv::erode, cv::dilate with a k x k MORPH_RECT,
-// the default and the reflected anchor, the default border; the centred open + close) on random masks, including widths
-// that are not multiples of 64 and masks narrower than the kernel.
-#include <gtest/gtest.h>
-
+// the default and the reflected anchor, the default border; the centred open + close) on random masks,
+// including widths that are not multiples of 64 and masks narrower than the kernel.
 #include <random>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "soccer_vision/segmentation/binary_morphology.h"
@@ -17,7 +16,8 @@ namespace {
 // Random blobs on sparse noise: both large structures and single pixels.
 cv::Mat randomMask(std::mt19937& rng, cv::Size size) {
   cv::Mat labels(size, CV_8UC1, cv::Scalar(0));
-  std::uniform_int_distribution<int> px(-5, size.width + 5), py(-5, size.height + 5), extent(1, 30), coin(0, 9);
+  std::uniform_int_distribution<int> px(-5, size.width + 5), py(-5, size.height + 5), extent(1, 30),
+      coin(0, 9);
   for (int i = 0; i < 12; ++i) {
     cv::rectangle(labels, cv::Rect(px(rng), py(rng), extent(rng), extent(rng)), cv::Scalar(1), cv::FILLED);
     cv::circle(labels, {px(rng), py(rng)}, extent(rng) / 3, cv::Scalar(1), cv::FILLED);
@@ -63,7 +63,8 @@ TEST(BinaryMorphology, EqualsOpenCvOnRandomMasks) {
       const cv::Size size(i == 0 ? 64 : i == 1 ? 128 : width(rng), height(rng));
       const cv::Mat binary = randomMask(rng, size) == 1;
       mask.setFromLabels(binary, 255);
-      const std::string where = "k " + std::to_string(k) + ", " + std::to_string(size.width) + "x" + std::to_string(size.height);
+      const std::string where =
+          "k " + std::to_string(k) + ", " + std::to_string(size.width) + "x" + std::to_string(size.height);
 
       cv::Mat want;
       cv::erode(binary, want, kernel);
@@ -114,7 +115,9 @@ TEST(BinaryMorphology, OpenThenCloseOfABandOfRowsEqualsOpenCv) {
     const int a = k / 2, reflected = k - 1 - k / 2;
     for (int i = 0; i < 40; ++i) {
       const int height = 60, rows = band(rng);
-      const int offset = i % 4 == 0 ? 0 : i % 4 == 1 ? height - rows : std::uniform_int_distribution<int>(1, height - rows - 1)(rng);
+      const int offset = i % 4 == 0   ? 0
+                         : i % 4 == 1 ? height - rows
+                                      : std::uniform_int_distribution<int>(1, height - rows - 1)(rng);
       cv::Mat binary(height, width(rng), CV_8UC1, cv::Scalar(0));
       const cv::Mat blobs = randomMask(rng, {binary.cols, rows}) == 1;
       blobs.copyTo(binary.rowRange(offset, offset + rows));
@@ -125,8 +128,8 @@ TEST(BinaryMorphology, OpenThenCloseOfABandOfRowsEqualsOpenCv) {
       cv::dilate(want, want, kernel, cv::Point(a, a));
       cv::erode(want, want, kernel, cv::Point(reflected, reflected));
       openThenClose(mask, k, scratch);
-      ASSERT_TRUE(sameMask(mask, want)) << "k " << k << ", band of " << rows << " rows at " << offset << ", width "
-                                        << binary.cols;
+      ASSERT_TRUE(sameMask(mask, want))
+          << "k " << k << ", band of " << rows << " rows at " << offset << ", width " << binary.cols;
       changed += cv::countNonZero(want != binary) > 0;
       ++cases;
     }

@@ -1,8 +1,6 @@
 // The paper's colour table (§III-A): colour-space conversions against OpenCV, the sample
 // thresholds, the naive Bayes decision on overlapping cells, hue wrap-around, the `.svct`
 // file format, and the reference classification of a rendered frame.
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +10,11 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
 
@@ -101,9 +100,10 @@ TEST(ColorSpace, HsvAndLabAgreeWithOpenCvOnADenseSweep) {
   EXPECT_LT(worst_v, 1e-3);
   EXPECT_LT(worst_linear_lab, 0.05);
   EXPECT_LT(worst_lab, 0.6);
-  std::printf("[ colour space ] %zu pixels vs OpenCV float: max |dH| %.1e deg, |dS| %.1e, |dV| %.1e; "
-              "Lab dE %.1e (linear input), %.2f (sRGB input, OpenCV's lookup table)\n",
-              pixels.size(), worst_h, worst_s, worst_v, worst_linear_lab, worst_lab);
+  std::printf(
+      "[ colour space ] %zu pixels vs OpenCV float: max |dH| %.1e deg, |dS| %.1e, |dV| %.1e; "
+      "Lab dE %.1e (linear input), %.2f (sRGB input, OpenCV's lookup table)\n",
+      pixels.size(), worst_h, worst_s, worst_v, worst_linear_lab, worst_lab);
 }
 
 TEST(ColorSpace, GreyAndBlackConventions) {
@@ -146,8 +146,12 @@ TEST(ColorTable, ThresholdsSelectExactlyTheSamplesTheyShould) {
   cv::Vec3f mean_lab(0, 0, 0);
   for (const auto& p : samples) mean_lab += openCv(p[0], p[1], p[2], cv::COLOR_BGR2Lab);
   mean_lab *= 1.0f / static_cast<float>(samples.size());
-  auto lab_distance = [&](const cv::Vec3b& p) { return cv::norm(openCv(p[0], p[1], p[2], cv::COLOR_BGR2Lab) - mean_lab); };
-  auto hue = [](const cv::Vec3b& p) { return static_cast<double>(openCv(p[0], p[1], p[2], cv::COLOR_BGR2HSV_FULL)[0]); };
+  auto lab_distance = [&](const cv::Vec3b& p) {
+    return cv::norm(openCv(p[0], p[1], p[2], cv::COLOR_BGR2Lab) - mean_lab);
+  };
+  auto hue = [](const cv::Vec3b& p) {
+    return static_cast<double>(openCv(p[0], p[1], p[2], cv::COLOR_BGR2HSV_FULL)[0]);
+  };
   ColorTableParams params;
   params.v_margin = 0;  // the paper's body: V ranges exactly as the valid samples span them
   for (const auto& p : cluster) {
@@ -194,7 +198,8 @@ TEST(ColorTable, ThresholdsCutBetweenSamplesAndPerClassOverridesApply) {
   ColorTableParams params;
   params.threshold_h = 90;
   params.overrides = {{ColorClass::Blue, {half + 0.01, 90}}, {ColorClass::SkyBlue, {half - 0.01, 90}}};
-  const ColorTable table = ColorTable::build({{ColorClass::Blue, {x, y}}, {ColorClass::SkyBlue, {x, y}}}, params);
+  const ColorTable table =
+      ColorTable::build({{ColorClass::Blue, {x, y}}, {ColorClass::SkyBlue, {x, y}}}, params);
   EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::Blue)].valid, 2u);
   EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::SkyBlue)].valid, 0u);
   EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::SkyBlue)].cells_claimed, 0u);
@@ -254,7 +259,8 @@ TEST(ColorTable, OverlappingCellGoesToTheNaiveBayesWinner) {
     return g;
   };
   auto log_p = [&](const Gaussian& g) {
-    return -0.5 * ((h - g.mh) * (h - g.mh) / g.vh + (s - g.ms) * (s - g.ms) / g.vs + (v - g.mv) * (v - g.mv) / g.vv) -
+    return -0.5 * ((h - g.mh) * (h - g.mh) / g.vh + (s - g.ms) * (s - g.ms) / g.vs +
+                   (v - g.mv) * (v - g.mv) / g.vv) -
            0.5 * std::log(g.vh * g.vs * g.vv);
   };
   const Gaussian ga = fit(a), gb = fit(b);
@@ -292,7 +298,7 @@ TEST(ColorTable, RedWrapsAroundHueZero) {
   EXPECT_EQ(table.classify(17, 0, 200), ColorClass::Red);
   // The claimed cells lie on both sides of 0: near the first and near the last hue bin.
   const int bins = table.params().h_bins;
-  EXPECT_LT(table.hBin(bgrToHsv(0, 17, 200).h), bins / 36);            // < 10°
+  EXPECT_LT(table.hBin(bgrToHsv(0, 17, 200).h), bins / 36);             // < 10°
   EXPECT_GE(table.hBin(bgrToHsv(17, 0, 200).h), bins - 1 - bins / 36);  // > 350°
 }
 
@@ -358,7 +364,8 @@ class ColorTableFile : public ::testing::Test {
     for (int i = 0; i < 12; ++i) reference(i / 4, i % 4) = 60.0f + 10.25f * i;
     for (int i = 0; i < 12; ++i) levels(i / 4, i % 4) = 90.0f - 1.5f * i;
     table_ = std::make_unique<ColorTable>(
-        ColorTable::build({{ColorClass::Blue, blue}, {ColorClass::Red, red}, {ColorClass::Carpet, carpet}}, params)
+        ColorTable::build({{ColorClass::Blue, blue}, {ColorClass::Red, red}, {ColorClass::Carpet, carpet}},
+                          params)
             .withIlluminationReference(reference)
             .withIlluminationLevels(levels));
     path_ = ::testing::TempDir() + "/test_color_table.svct";
@@ -394,10 +401,18 @@ TEST_F(ColorTableFile, RoundTripsExactly) {
     EXPECT_EQ(x.valid, y.valid);
     EXPECT_EQ(x.cells_claimed, y.cells_claimed);
     EXPECT_EQ(x.cells_assigned, y.cells_assigned);
-    for (auto [p, q] : {std::pair{x.mean_lab.l, y.mean_lab.l}, {x.mean_lab.a, y.mean_lab.a},
-                        {x.mean_lab.b, y.mean_lab.b}, {x.mean_h, y.mean_h}, {x.thresholds.lab, y.thresholds.lab},
-                        {x.thresholds.h, y.thresholds.h}, {x.mean_h_valid, y.mean_h_valid}, {x.var_h, y.var_h},
-                        {x.mean_s, y.mean_s}, {x.var_s, y.var_s}, {x.mean_v, y.mean_v}, {x.var_v, y.var_v}}) {
+    for (auto [p, q] : {std::pair{x.mean_lab.l, y.mean_lab.l},
+                        {x.mean_lab.a, y.mean_lab.a},
+                        {x.mean_lab.b, y.mean_lab.b},
+                        {x.mean_h, y.mean_h},
+                        {x.thresholds.lab, y.thresholds.lab},
+                        {x.thresholds.h, y.thresholds.h},
+                        {x.mean_h_valid, y.mean_h_valid},
+                        {x.var_h, y.var_h},
+                        {x.mean_s, y.mean_s},
+                        {x.var_s, y.var_s},
+                        {x.mean_v, y.mean_v},
+                        {x.var_v, y.var_v}}) {
       EXPECT_EQ(p, q) << colorClassName(static_cast<ColorClass>(c));
     }
   }
@@ -463,7 +478,8 @@ TEST_F(ColorTableFile, DamagedFilesAreRejectedWithDistinctMessages) {
   for (std::size_t i = 0; i < cases.size(); ++i) {
     EXPECT_NE(cases[i].first.find(cases[i].second), std::string::npos)
         << "case " << i << ": '" << cases[i].first << "' should mention '" << cases[i].second << "'";
-    EXPECT_NE(cases[i].first.find(damaged.substr(0, damaged.size() - 8)), std::string::npos) << "names the file";
+    EXPECT_NE(cases[i].first.find(damaged.substr(0, damaged.size() - 8)), std::string::npos)
+        << "names the file";
     for (std::size_t j = 0; j < 5; ++j) {
       if (j == i || (i == 5 && j == 1)) continue;  // the empty file is truncated too
       EXPECT_EQ(cases[i].first.find(cases[j].second), std::string::npos) << "case " << i << " vs " << j;
@@ -523,7 +539,8 @@ TEST(ColorTableOnRenderedFrames, ClassifiesMarkerInteriorsAndLeavesTheBackground
   std::vector<std::unique_ptr<FieldRenderer>> renderers;
   for (int camera = 0; camera < 2; ++camera) {
     renderers.push_back(std::make_unique<FieldRenderer>(
-        CameraModel::defaultCamera(field, camera, scenario.width, scenario.height), field, patterns, scenario));
+        CameraModel::defaultCamera(field, camera, scenario.width, scenario.height), field, patterns,
+        scenario));
   }
 
   ClassPixels samples;
@@ -542,7 +559,8 @@ TEST(ColorTableOnRenderedFrames, ClassifiesMarkerInteriorsAndLeavesTheBackground
   // Timed for the report only: speed is judged by the benchmark, not by tests.
   const auto start = std::chrono::steady_clock::now();
   const ColorTable table = ColorTable::build(samples);
-  const double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::printf("[ colour table ] built in %.2f ms; %u cells decided by Bayes\n", build_ms,
               table.statistics().overlap_cells);
   for (int c = 1; c < kNumColorClasses; ++c) {
@@ -568,15 +586,18 @@ TEST(ColorTableOnRenderedFrames, ClassifiesMarkerInteriorsAndLeavesTheBackground
     all += score.interior[c];
     right += score.interior_right[c];
     if (score.interior[c] > 0) {
-      std::printf("  %-9s interior %5ld correct %6.2f %%\n", std::string(colorClassName(static_cast<ColorClass>(c))).c_str(),
+      std::printf("  %-9s interior %5ld correct %6.2f %%\n",
+                  std::string(colorClassName(static_cast<ColorClass>(c))).c_str(),
                   static_cast<long>(score.interior[c]), 100.0 * score.interior_right[c] / score.interior[c]);
     }
   }
   const double interior_rate = static_cast<double>(right) / all;
   const double background_rate = static_cast<double>(score.background_as_marker) / score.background;
-  std::printf("[ colour table ] marker interiors correct %.3f %% (%ld of %ld); background as marker %.5f %% (%ld of %ld)\n",
-              100 * interior_rate, static_cast<long>(right), static_cast<long>(all), 100 * background_rate,
-              static_cast<long>(score.background_as_marker), static_cast<long>(score.background));
+  std::printf(
+      "[ colour table ] marker interiors correct %.3f %% (%ld of %ld); background as marker %.5f %% (%ld of "
+      "%ld)\n",
+      100 * interior_rate, static_cast<long>(right), static_cast<long>(all), 100 * background_rate,
+      static_cast<long>(score.background_as_marker), static_cast<long>(score.background));
   ASSERT_GT(all, 1000);
   EXPECT_GE(interior_rate, 0.99);
   EXPECT_LE(background_rate, 0.0001);

@@ -7,7 +7,6 @@
 #include <cstdio>
 
 #include <gtest/gtest.h>
-
 #include <opencv2/imgproc.hpp>
 
 #include "soccer_vision/segmentation/illumination_adaptation.h"
@@ -39,14 +38,15 @@ cv::Mat3b crowdedField(int robots, bool dimmed) {
       const int row = k / 8, col = k % 8;
       const cv::Point2d c(400 + 44 * col + 7.3 * (row % 3), 300 + 44 * row + 5.1 * (col % 4));
       auto disc = [&](cv::Point2d p, double r, cv::Scalar color) {
-        cv::circle(image, cv::Point(std::lround(p.x * 16), std::lround(p.y * 16)), std::lround(r * 16), color, cv::FILLED,
-                   cv::LINE_AA, shift);
+        cv::circle(image, cv::Point(std::lround(p.x * 16), std::lround(p.y * 16)), std::lround(r * 16), color,
+                   cv::FILLED, cv::LINE_AA, shift);
       };
       disc(c, 20, {25, 25, 25});
       disc(c, 5.5, {40, 220, 230});  // team
       for (int m = 0; m < 4; ++m) {
         const double a = 0.8 + m * M_PI / 2 + 0.3 * (m == 3) + 0.4 * k;
-        disc(c + 12.5 * cv::Point2d(std::cos(a), std::sin(a)), 4.5, m % 2 ? cv::Scalar(200, 60, 230) : cv::Scalar(60, 220, 60));
+        disc(c + 12.5 * cv::Point2d(std::cos(a), std::sin(a)), 4.5,
+             m % 2 ? cv::Scalar(200, 60, 230) : cv::Scalar(60, 220, 60));
       }
     }
   }
@@ -59,9 +59,9 @@ cv::Mat3b crowdedField(int robots, bool dimmed) {
 // robots) times the global change, and the frame shows 32 robots in a drifted light.
 // Measured at the run-time sample step (8): worst block 0.6 % off the carpet's true level
 // without robots, 3.6 % with them (a block amid the robots, two blocks from a clean
-// reading). Each block's own reading (the method before) was 7.7 % off next to the robots (their edge pixels taken for carpet), which is what pushed
-// markers out of their colour cells: 1.7 % of the `crowded` preset's robots unidentified
-// per frame, 8 % of `flicker_noise`'s (before tracking).
+// reading). Each block's own reading (the method before) was 7.7 % off next to the robots (their edge pixels
+// taken for carpet), which is what pushed markers out of their colour cells: 1.7 % of the `crowded` preset's
+// robots unidentified per frame, 8 % of `flicker_noise`'s (before tracking).
 TEST(LightLevels, FollowTheCarpetNotTheRobots) {
   const cv::Mat3b calibration = crowdedField(0, false);
   const cv::Size grid((calibration.cols + 31) / 32, (calibration.rows + 31) / 32);

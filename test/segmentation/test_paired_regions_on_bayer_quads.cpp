@@ -3,8 +3,6 @@
 // class, checked against OpenCV's components on random label images with isolated pixels
 // and diagonal chains, full frame and in windows; and labelParams turns it on where it
 // turns the opening off.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -12,21 +10,22 @@
 #include <tuple>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "label_colors.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
 #include "soccer_vision/segmentation/region_extractor.h"
 #include "soccer_vision/segmentation/segmenter.h"
 
-#include "label_colors.h"
-
 using namespace soccer_vision;
 
 namespace {
 
-const std::vector<std::pair<ColorClass, cv::Vec3b>> kPalette = {
-    {ColorClass::Blue, {200, 80, 20}}, {ColorClass::Yellow, {30, 220, 240}}, {ColorClass::Pink, {180, 80, 255}}};
+const std::vector<std::pair<ColorClass, cv::Vec3b>> kPalette = {{ColorClass::Blue, {200, 80, 20}},
+                                                                {ColorClass::Yellow, {30, 220, 240}},
+                                                                {ColorClass::Pink, {180, 80, 255}}};
 const cv::Vec3b kNoneColor(128, 128, 128);
 
 const PixelClassifier& paletteClassifier() {
@@ -43,13 +42,19 @@ cv::Mat1b randomLabels(std::mt19937& rng, cv::Size size) {
   cv::Mat1b labels(size, static_cast<std::uint8_t>(ColorClass::None));
   std::uniform_int_distribution<int> klass(0, static_cast<int>(kPalette.size()) - 1), px(0, size.width - 1),
       py(0, size.height - 1), extent(1, 12), shape(0, 2);
-  auto value = [&] { return static_cast<std::uint8_t>(kPalette[static_cast<std::size_t>(klass(rng))].first); };
+  auto value = [&] {
+    return static_cast<std::uint8_t>(kPalette[static_cast<std::size_t>(klass(rng))].first);
+  };
   for (int i = 0; i < 60; ++i) {
     const cv::Point p(px(rng), py(rng));
     const std::uint8_t v = value();
     switch (shape(rng)) {
-      case 0: cv::rectangle(labels, cv::Rect(p, cv::Size(extent(rng), extent(rng))), cv::Scalar(v), cv::FILLED); break;
-      case 1: labels(p) = v; break;
+      case 0:
+        cv::rectangle(labels, cv::Rect(p, cv::Size(extent(rng), extent(rng))), cv::Scalar(v), cv::FILLED);
+        break;
+      case 1:
+        labels(p) = v;
+        break;
       default:
         for (int d = 0, n = extent(rng); d < n; ++d) {
           const cv::Point q = p + cv::Point(d, d);
@@ -88,8 +93,9 @@ std::vector<Blob> reference(const cv::Mat1b& labels, const RegionParams& p, int&
         ++dropped;
         continue;
       }
-      blobs.emplace_back(static_cast<int>(c), area, stats.at<int>(l, cv::CC_STAT_LEFT), stats.at<int>(l, cv::CC_STAT_TOP),
-                         stats.at<int>(l, cv::CC_STAT_WIDTH), stats.at<int>(l, cv::CC_STAT_HEIGHT));
+      blobs.emplace_back(static_cast<int>(c), area, stats.at<int>(l, cv::CC_STAT_LEFT),
+                         stats.at<int>(l, cv::CC_STAT_TOP), stats.at<int>(l, cv::CC_STAT_WIDTH),
+                         stats.at<int>(l, cv::CC_STAT_HEIGHT));
     }
   }
   std::sort(blobs.begin(), blobs.end());
@@ -145,8 +151,8 @@ TEST(RegionPairs, CheckerboardScanFindsExactlyTheComponentsHoldingAnAdjacentPair
       }
     }
   }
-  std::printf("[ pairs ] %d images: %d regions equal to the reference, %d unpaired components dropped\n", images,
-              regions, dropped);
+  std::printf("[ pairs ] %d images: %d regions equal to the reference, %d unpaired components dropped\n",
+              images, regions, dropped);
   EXPECT_GT(regions, 1000);
   EXPECT_GT(dropped, 500);  // single pixels and diagonal chains were there to drop
 }
@@ -155,8 +161,8 @@ TEST(RegionPairs, CheckerboardScanFindsExactlyTheComponentsHoldingAnAdjacentPair
 // and a single pixel inside is dropped.
 TEST(RegionPairs, WindowsReturnPairedRegionsWhole) {
   cv::Mat1b labels(60, 80, static_cast<std::uint8_t>(ColorClass::None));
-  labels(cv::Rect(18, 10, 8, 3)).setTo(static_cast<int>(ColorClass::Blue));   // crosses x = 20
-  labels(cv::Rect(50, 40, 4, 4)).setTo(static_cast<int>(ColorClass::Yellow)); // outside the window
+  labels(cv::Rect(18, 10, 8, 3)).setTo(static_cast<int>(ColorClass::Blue));    // crosses x = 20
+  labels(cv::Rect(50, 40, 4, 4)).setTo(static_cast<int>(ColorClass::Yellow));  // outside the window
   labels(5, 30) = static_cast<std::uint8_t>(ColorClass::Pink);                 // single pixel inside
   const cv::Mat image = colorsOf(labels);
   const FrameClassifier frame(paletteClassifier(), image, PixelLayout::Bgr, BlockOffsets{});

@@ -2,8 +2,6 @@
 // table's definition, ColorTable::classify: every 24-bit colour at several V offsets,
 // every camera layout, block offsets, the grid scan, sharpening; and the paper's block-wise
 // illumination adaptation (§III-B).
-#include <gtest/gtest.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,15 +9,16 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/segmentation/color_table.h"
-#include "soccer_vision/simulation/field_renderer.h"
-#include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/segmentation/illumination_adaptation.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
 #include "soccer_vision/segmentation/simd_kernels.h"
+#include "soccer_vision/simulation/calibration_samples.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
 
 using namespace soccer_vision;
 
@@ -40,12 +39,12 @@ struct World {
   World() {
     ClassPixels samples;
     for (int camera = 0; camera < 2; ++camera) {
-      FieldRenderer renderer(CameraModel::defaultCamera(field, camera, scenario.width, scenario.height), field,
-                             patterns, scenario);
+      FieldRenderer renderer(CameraModel::defaultCamera(field, camera, scenario.width, scenario.height),
+                             field, patterns, scenario);
       RenderedFrame rendered;
       renderer.render(sim.state(), 0, rendered);
-      for (auto& [c, px] : collectSamplePixels(rendered.image, calibrationSamples(sim.state(), renderer.camera(),
-                                                                                  field, patterns))) {
+      for (auto& [c, px] : collectSamplePixels(
+               rendered.image, calibrationSamples(sim.state(), renderer.camera(), field, patterns))) {
         samples[c].insert(samples[c].end(), px.begin(), px.end());
       }
       if (camera == 0) calibration = rendered.image;
@@ -56,8 +55,8 @@ struct World {
     std::printf("[ classifier ] lookup built in %.1f ms\n",
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     for (int i = 0; i < 60; ++i) sim.step(1.0 / scenario.fps);
-    FieldRenderer renderer(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height), field, patterns,
-                           scenario);
+    FieldRenderer renderer(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height), field,
+                           patterns, scenario);
     RenderedFrame rendered;
     renderer.render(sim.state(), 60, rendered);
     frame = rendered.image;
@@ -79,7 +78,8 @@ BlockOffsets patternedOffsets(cv::Size image_size) {
     for (int j = 0; j < o.offsets.cols; ++j) {
       const bool gain = (i + j) % 3 == 0;
       o.offsets.at<std::int16_t>(i, j) = static_cast<std::int16_t>(gain ? 0 : (i * 7 + j * 13) % 81 - 40);
-      o.gains.at<std::uint16_t>(i, j) = static_cast<std::uint16_t>(gain ? 230 + (i * 11 + j * 5) % 53 : ColorTable::kUnitGain);
+      o.gains.at<std::uint16_t>(i, j) =
+          static_cast<std::uint16_t>(gain ? 230 + (i * 11 + j * 5) % 53 : ColorTable::kUnitGain);
     }
   }
   return o;
@@ -111,9 +111,15 @@ cv::Mat mosaic(const cv::Mat3b& bgr, const std::string& pattern) {
       for (int k = 0; k < 4; ++k) {
         std::uint8_t value = 0;
         switch (pattern[k]) {
-          case 'b': value = p[0]; break;
-          case 'r': value = p[2]; break;
-          default: value = first_green ? p[1] : q[1]; first_green = false;
+          case 'b':
+            value = p[0];
+            break;
+          case 'r':
+            value = p[2];
+            break;
+          default:
+            value = first_green ? p[1] : q[1];
+            first_green = false;
         }
         raw(y + k / 2, x + k % 2) = value;
       }
@@ -127,11 +133,15 @@ cv::Vec3b quadColor(const cv::Mat1b& raw, const std::string& pattern, int x, int
   int b = 0, r = 0, g_sum = 0;
   for (int k = 0; k < 4; ++k) {
     const int v = raw(2 * y + k / 2, 2 * x + k % 2);
-    if (pattern[k] == 'b') b = v;
-    else if (pattern[k] == 'r') r = v;
-    else g_sum += v;
+    if (pattern[k] == 'b')
+      b = v;
+    else if (pattern[k] == 'r')
+      r = v;
+    else
+      g_sum += v;
   }
-  return cv::Vec3b(static_cast<std::uint8_t>(b), static_cast<std::uint8_t>((g_sum + 1) >> 1), static_cast<std::uint8_t>(r));
+  return cv::Vec3b(static_cast<std::uint8_t>(b), static_cast<std::uint8_t>((g_sum + 1) >> 1),
+                   static_cast<std::uint8_t>(r));
 }
 
 }  // namespace
@@ -142,7 +152,8 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
   const World& w = world();
   const ColorTable& table = *w.table;
   int classes_present = 0;
-  for (int c = 1; c < kNumColorClasses; ++c) classes_present += table.statistics().classes[c].cells_assigned > 0;
+  for (int c = 1; c < kNumColorClasses; ++c)
+    classes_present += table.statistics().classes[c].cells_assigned > 0;
   ASSERT_EQ(classes_present, kNumColorClasses - 1) << "the table should hold every class";
 
   // ColorTable::classify is bgrToHsv followed by classifyHsv(h, s, adjustedV(v, offset,
@@ -154,7 +165,8 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
   for (int b = 0; b < 256; ++b) {
     for (int g = 0; g < 256; ++g) {
       for (int r = 0; r < 256; ++r) {
-        const auto bb = static_cast<std::uint8_t>(b), gg = static_cast<std::uint8_t>(g), rr = static_cast<std::uint8_t>(r);
+        const auto bb = static_cast<std::uint8_t>(b), gg = static_cast<std::uint8_t>(g),
+                   rr = static_cast<std::uint8_t>(r);
         const Hsv hsv = bgrToHsv(bb, gg, rr);
         for (int offset : offsets) {
           const ColorClass expected = table.classifyHsv(hsv.h, hsv.s, hsv.v + offset);
@@ -167,11 +179,12 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
         }
         for (int gain : gains) {
           const int offset = gain % 2 ? -7 : 0;  // odd gains with an offset too
-          const ColorClass expected = table.classifyHsv(hsv.h, hsv.s, std::floor((hsv.v * gain + 128) / 256) + offset);
+          const ColorClass expected =
+              table.classifyHsv(hsv.h, hsv.s, std::floor((hsv.v * gain + 128) / 256) + offset);
           const ColorClass got = w.classifier->classify(bb, gg, rr, offset, gain);
           if (got != expected && ++mismatches <= 5) {
-            ADD_FAILURE() << "(" << b << ", " << g << ", " << r << ") gain " << gain << " offset " << offset << ": "
-                          << colorClassName(got) << " instead of " << colorClassName(expected);
+            ADD_FAILURE() << "(" << b << ", " << g << ", " << r << ") gain " << gain << " offset " << offset
+                          << ": " << colorClassName(got) << " instead of " << colorClassName(expected);
           }
         }
       }
@@ -180,9 +193,11 @@ TEST(PixelClassifier, EqualsTheColorTableOnEveryColourAndOffset) {
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(non_none, 100000);
   // Spot checks through the public definition itself.
-  for (const auto& [b, g, r] : {std::tuple{201, 80, 20}, {30, 220, 240}, {45, 120, 50}, {0, 0, 0}, {255, 255, 255}}) {
+  for (const auto& [b, g, r] :
+       {std::tuple{201, 80, 20}, {30, 220, 240}, {45, 120, 50}, {0, 0, 0}, {255, 255, 255}}) {
     for (int offset : offsets) {
-      const auto bb = static_cast<std::uint8_t>(b), gg = static_cast<std::uint8_t>(g), rr = static_cast<std::uint8_t>(r);
+      const auto bb = static_cast<std::uint8_t>(b), gg = static_cast<std::uint8_t>(g),
+                 rr = static_cast<std::uint8_t>(r);
       EXPECT_EQ(w.classifier->classify(bb, gg, rr, offset), table.classify(bb, gg, rr, offset));
       for (int gain : gains) {
         EXPECT_EQ(w.classifier->classify(bb, gg, rr, offset, gain), table.classify(bb, gg, rr, offset, gain));
@@ -198,8 +213,8 @@ TEST(PixelClassifier, EncodingsLayoutsAndClassMasks) {
   EXPECT_EQ(pixelLayoutForEncoding("bayer_bggr8"), PixelLayout::BayerBggr);
   EXPECT_EQ(pixelLayoutForEncoding("bayer_gbrg8"), PixelLayout::BayerGbrg);
   EXPECT_EQ(pixelLayoutForEncoding("bayer_grbg8"), PixelLayout::BayerGrbg);
-  for (const char* unsupported : {"mono8", "mono16", "bgr16", "rgb16", "bgra8", "rgba8", "16UC1", "8UC3", "yuv422",
-                                  "uyvy", "bayer_rggb16", "BGR8", ""}) {
+  for (const char* unsupported : {"mono8", "mono16", "bgr16", "rgb16", "bgra8", "rgba8", "16UC1", "8UC3",
+                                  "yuv422", "uyvy", "bayer_rggb16", "BGR8", ""}) {
     EXPECT_EQ(pixelLayoutForEncoding(unsupported), std::nullopt) << unsupported;
   }
   EXPECT_FALSE(isBayer(PixelLayout::Bgr));
@@ -209,8 +224,8 @@ TEST(PixelClassifier, EncodingsLayoutsAndClassMasks) {
   EXPECT_EQ(labelSize({1280, 1024}, PixelLayout::BayerRggb), cv::Size(640, 512));
 
   ClassMask markers = 0;
-  for (ColorClass c : {ColorClass::Blue, ColorClass::Yellow, ColorClass::Pink, ColorClass::Purple, ColorClass::SkyBlue,
-                       ColorClass::Green, ColorClass::Red, ColorClass::Orange}) {
+  for (ColorClass c : {ColorClass::Blue, ColorClass::Yellow, ColorClass::Pink, ColorClass::Purple,
+                       ColorClass::SkyBlue, ColorClass::Green, ColorClass::Red, ColorClass::Orange}) {
     markers |= classBit(c);
   }
   EXPECT_EQ(markerClassMask(), markers);
@@ -222,10 +237,14 @@ TEST(PixelClassifier, EncodingsLayoutsAndClassMasks) {
   EXPECT_THROW(FrameClassifier(pc, cv::Mat1b(3, 4), PixelLayout::BayerRggb, {}), std::invalid_argument);
   EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::BayerRggb, {}), std::invalid_argument);
   EXPECT_THROW(FrameClassifier(pc, cv::Mat(4, 4, CV_16UC3), PixelLayout::Bgr, {}), std::invalid_argument);
-  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1s(2, 1), {}}), std::invalid_argument);
-  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1i(1, 1), {}}), std::invalid_argument);
-  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{{}, cv::Mat1s(1, 1)}), std::invalid_argument);
-  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{{}, cv::Mat_<std::uint16_t>(2, 1)}), std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1s(2, 1), {}}),
+               std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{cv::Mat1i(1, 1), {}}),
+               std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{{}, cv::Mat1s(1, 1)}),
+               std::invalid_argument);
+  EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, BlockOffsets{{}, cv::Mat_<std::uint16_t>(2, 1)}),
+               std::invalid_argument);
   EXPECT_THROW(FrameClassifier(pc, bgr, PixelLayout::Bgr, {}, -0.5), std::invalid_argument);
   const FrameClassifier fc(pc, bgr, PixelLayout::Bgr, {});
   cv::Mat out;
@@ -299,8 +318,8 @@ TEST(FrameClassifier, RgbAndEveryBayerLayoutClassifyTheirQuadColours) {
     for (int y = 0; y < labels.rows; ++y) {
       for (int x = 0; x < labels.cols; ++x) {
         const cv::Vec3b q = quadColor(raw, pattern, x, y);
-        const ColorClass expected =
-            w.table->classify(q[0], q[1], q[2], offsetOf(offsets, 2 * x, 2 * y), gainOf(offsets, 2 * x, 2 * y));
+        const ColorClass expected = w.table->classify(q[0], q[1], q[2], offsetOf(offsets, 2 * x, 2 * y),
+                                                      gainOf(offsets, 2 * x, 2 * y));
         wrong += labels(y, x) != static_cast<std::uint8_t>(expected);
         markers += isMarkerColor(expected);
         odd_green_sums += (bgr(2 * y, 2 * x)[1] + bgr(2 * y + 1, 2 * x + 1)[1]) % 2;
@@ -340,11 +359,15 @@ TEST(FrameClassifier, BayerLayoutsMatchTheRenderersEncodings) {
         int b = 0, r = 0, g = 0;
         for (int k = 0; k < 4; ++k) {
           const cv::Vec3b& p = bgr.image.at<cv::Vec3b>(2 * y + k / 2, 2 * x + k % 2);
-          if (pattern[k] == 'b') b = p[0];
-          else if (pattern[k] == 'r') r = p[2];
-          else g += p[1];
+          if (pattern[k] == 'b')
+            b = p[0];
+          else if (pattern[k] == 'r')
+            r = p[2];
+          else
+            g += p[1];
         }
-        wrong += fc.colorAt(x, y) != cv::Vec3b(static_cast<std::uint8_t>(b), static_cast<std::uint8_t>((g + 1) >> 1),
+        wrong += fc.colorAt(x, y) != cv::Vec3b(static_cast<std::uint8_t>(b),
+                                               static_cast<std::uint8_t>((g + 1) >> 1),
                                                static_cast<std::uint8_t>(r));
       }
     }
@@ -371,8 +394,9 @@ TEST_P(ScanKernels, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
     for (const cv::Rect rect : {cv::Rect(0, 0, size.width, size.height), cv::Rect(101, 58, 333, 250),
                                 cv::Rect(size.width - 41, size.height - 40, 41, 40), cv::Rect(5, 5, 0, 9)}) {
       for (int stride : {1, 2, 3, 4}) {
-        for (ClassMask classes : {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Blue),
-                                  classBit(ColorClass::None), ClassMask(0)}) {
+        for (ClassMask classes :
+             {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Blue),
+              classBit(ColorClass::None), ClassMask(0)}) {
           std::vector<cv::Point> expected;
           for (int y = rect.y; y < rect.y + rect.height; ++y) {
             for (int x = rect.x; x < rect.x + rect.width; ++x) {
@@ -400,10 +424,12 @@ TEST_P(ScanKernels, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
 TEST_P(ScanKernels, ClassifyEqualsClassifyPixelOnEveryRect) {
   const World& w = world();
   const BlockOffsets offsets = patternedOffsets(w.frame.size());
-  for (const auto& [image, layout] : {std::pair{w.frame, PixelLayout::Bgr}, {mosaic(w.frame, "bggr"), PixelLayout::BayerBggr}}) {
+  for (const auto& [image, layout] :
+       {std::pair{w.frame, PixelLayout::Bgr}, {mosaic(w.frame, "bggr"), PixelLayout::BayerBggr}}) {
     const FrameClassifier fc(*w.classifier, image, layout, offsets);
     const cv::Size size = fc.labelSize();
-    for (ClassMask keep : {~ClassMask(0), markerClassMask(), classBit(ColorClass::Blue) | classBit(ColorClass::Yellow)}) {
+    for (ClassMask keep :
+         {~ClassMask(0), markerClassMask(), classBit(ColorClass::Blue) | classBit(ColorClass::Yellow)}) {
       int wrong = 0, marked = 0;
       for (int width = 1; width <= 40; ++width) {
         const cv::Rect rect((width * 37) % (size.width - 40), (width * 23) % (size.height - 8), width, 8);
@@ -432,7 +458,9 @@ TEST_P(ScanKernels, ClassifyEqualsClassifyPixelOnEveryRect) {
 }
 
 INSTANTIATE_TEST_SUITE_P(FrameClassifier, ScanKernels, ::testing::Values(true, false),
-                         [](const ::testing::TestParamInfo<bool>& info) { return info.param ? "Simd" : "Portable"; });
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                           return info.param ? "Simd" : "Portable";
+                         });
 
 // classify(rect, out, keep) equals classify(rect, out) with the other classes set to None,
 // for every layout, with and without sharpening.
@@ -449,8 +477,8 @@ TEST(FrameClassifier, KeepingClassesEqualsTheFullLabelsMasked) {
       const cv::Rect rect(0, 0, size.width, size.height);
       cv::Mat all;
       fc.classify(rect, all);
-      for (ClassMask keep : {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Pink),
-                             ClassMask(0)}) {
+      for (ClassMask keep :
+           {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Pink), ClassMask(0)}) {
         cv::Mat kept;
         fc.classify(rect, kept, keep);
         cv::Mat1b expected = all.clone();
@@ -473,8 +501,8 @@ TEST(FrameClassifier, SharpeningReplacesVByTheSharpenedV) {
   const cv::Mat raw = mosaic(bgr, "rggb");
   const BlockOffsets offsets = patternedOffsets(bgr.size());
   const double sharpen = 0.7;
-  for (const auto& [image, layout, pattern] :
-       {std::tuple{cv::Mat(bgr), PixelLayout::Bgr, std::string()}, {raw, PixelLayout::BayerRggb, std::string("rggb")}}) {
+  for (const auto& [image, layout, pattern] : {std::tuple{cv::Mat(bgr), PixelLayout::Bgr, std::string()},
+                                               {raw, PixelLayout::BayerRggb, std::string("rggb")}}) {
     const FrameClassifier fc(*w.classifier, image, layout, offsets, sharpen);
     const cv::Size size = fc.labelSize();
     auto color = [&](int x, int y) {
@@ -490,11 +518,14 @@ TEST(FrameClassifier, SharpeningReplacesVByTheSharpenedV) {
     for (int y = 0; y < size.height; ++y) {
       for (int x = 0; x < size.width; ++x) {
         const int laplacian = v(x - 1, y) + v(x + 1, y) + v(x, y - 1) + v(x, y + 1) - 4 * v(x, y);
-        const int sharpened = std::clamp(static_cast<int>(v(x, y) - std::lround(sharpen * laplacian)), 0, 255);
-        const int offset = offsetOf(offsets, scale * x, scale * y), gain = gainOf(offsets, scale * x, scale * y);
+        const int sharpened =
+            std::clamp(static_cast<int>(v(x, y) - std::lround(sharpen * laplacian)), 0, 255);
+        const int offset = offsetOf(offsets, scale * x, scale * y),
+                  gain = gainOf(offsets, scale * x, scale * y);
         const cv::Vec3b c = color(x, y);
         const Hsv hsv = bgrToHsv(c[0], c[1], c[2]);
-        const ColorClass sharp = w.table->classifyHsv(hsv.h, hsv.s, ColorTable::adjustedV(sharpened, offset, gain));
+        const ColorClass sharp =
+            w.table->classifyHsv(hsv.h, hsv.s, ColorTable::adjustedV(sharpened, offset, gain));
         expected(y, x) = static_cast<std::uint8_t>(sharp);
         changed_v += sharpened != v(x, y);
         changed_class += sharp != w.table->classify(c[0], c[1], c[2], offset, gain);
@@ -528,8 +559,8 @@ TEST(Illumination, BlockMeanVEqualsADirectComputation) {
   const World& w = world();
   const cv::Mat3b bgr = w.frame(cv::Rect(3, 1, 1000, 706));  // partial blocks on both sides
   const cv::Mat raw = mosaic(bgr, "bggr");
-  for (const auto& [image, layout, pattern] :
-       {std::tuple{cv::Mat(bgr), PixelLayout::Bgr, std::string()}, {raw, PixelLayout::BayerBggr, std::string("bggr")}}) {
+  for (const auto& [image, layout, pattern] : {std::tuple{cv::Mat(bgr), PixelLayout::Bgr, std::string()},
+                                               {raw, PixelLayout::BayerBggr, std::string("bggr")}}) {
     const int block = isBayer(layout) ? 16 : 32;
     const cv::Size size = labelSize(image.size(), layout);
     for (int step : {1, 3, 4}) {
@@ -588,7 +619,8 @@ TEST(Illumination, OffsetsAreTheRoundedClampedScaledDifference) {
   EXPECT_NEAR(both.reference().at<float>(0, 0), 75.0, 1e-4);
   EXPECT_NEAR(both.reference().at<float>(0, 1), 150.0, 1e-4);
   EXPECT_THROW(IlluminationAdaptation::fromImages({}, PixelLayout::Bgr), std::invalid_argument);
-  EXPECT_THROW(IlluminationAdaptation::fromImages({image, cv::Mat3b(64, 64)}, PixelLayout::Bgr), std::invalid_argument);
+  EXPECT_THROW(IlluminationAdaptation::fromImages({image, cv::Mat3b(64, 64)}, PixelLayout::Bgr),
+               std::invalid_argument);
 }
 
 // The calibration frame darkened to 90 %: adaptation brings its labels back towards the
@@ -600,7 +632,8 @@ TEST(Illumination, AdaptationRecoversADarkenedFrame) {
   const World& w = world();
   const cv::Mat bright = w.calibration;
   const cv::Mat dark = bright * 0.9;
-  const IlluminationAdaptation adaptation(IlluminationAdaptation::fromImages({bright}, PixelLayout::Bgr).reference());
+  const IlluminationAdaptation adaptation(
+      IlluminationAdaptation::fromImages({bright}, PixelLayout::Bgr).reference());
   const cv::Mat1b reference = classifyAll(FrameClassifier(*w.classifier, bright, PixelLayout::Bgr, {}));
   auto agreement = [&](double k) {
     const BlockOffsets offsets = adaptation.offsets(dark, PixelLayout::Bgr, k, 4);
@@ -643,7 +676,8 @@ TEST(Illumination, WindowsMeasureOnlyTheBlocksTheyMeet) {
   EXPECT_EQ(cv::countNonZero(selected), 7 * 8 + 5 * 4 + 3 * 2);
   EXPECT_TRUE(selected(2, 3) && selected(9, 9) && !selected(10, 9) && !selected(2, 10) && !selected(1, 3));
 
-  const IlluminationAdaptation paper(IlluminationAdaptation::fromImages({w.calibration}, PixelLayout::Bgr).reference());
+  const IlluminationAdaptation paper(
+      IlluminationAdaptation::fromImages({w.calibration}, PixelLayout::Bgr).reference());
   const BlockOffsets full = paper.offsets(dark, PixelLayout::Bgr, 0.3, 4);
   const BlockOffsets windowed = paper.offsets(dark, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
   ASSERT_EQ(windowed.offsets.size(), full.offsets.size());
@@ -654,21 +688,25 @@ TEST(Illumination, WindowsMeasureOnlyTheBlocksTheyMeet) {
     }
   }
 
-  const IlluminationAdaptation normalised = IlluminationAdaptation::fromImages({w.calibration}, PixelLayout::Bgr);
+  const IlluminationAdaptation normalised =
+      IlluminationAdaptation::fromImages({w.calibration}, PixelLayout::Bgr);
   const BlockOffsets full_gains = normalised.offsets(dark, PixelLayout::Bgr, 0.3, 4);
-  const BlockOffsets windowed_gains = normalised.offsets(dark, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
+  const BlockOffsets windowed_gains =
+      normalised.offsets(dark, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
   double worst = 0;
   for (int y = 0; y < selected.rows; ++y) {
     for (int x = 0; x < selected.cols; ++x) {
       if (!selected(y, x)) continue;
-      const double a = full_gains.gains.at<std::uint16_t>(y, x), b = windowed_gains.gains.at<std::uint16_t>(y, x);
+      const double a = full_gains.gains.at<std::uint16_t>(y, x),
+                   b = windowed_gains.gains.at<std::uint16_t>(y, x);
       worst = std::max(worst, std::abs(a - b) / a);
     }
   }
   std::printf("  windowed gains within %.3f %% of the full frame's\n", 100 * worst);
   EXPECT_LT(worst, 0.02);
   // The darkening is seen: the gains are 1 / 0.8 of those of the frame as rendered.
-  const BlockOffsets undarkened = normalised.offsets(w.frame, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
-  EXPECT_NEAR(double(windowed_gains.gains.at<std::uint16_t>(5, 5)) / undarkened.gains.at<std::uint16_t>(5, 5), 1.25,
-              0.03);
+  const BlockOffsets undarkened =
+      normalised.offsets(w.frame, PixelLayout::Bgr, 0.3, 4, 64, nullptr, &windows);
+  EXPECT_NEAR(double(windowed_gains.gains.at<std::uint16_t>(5, 5)) / undarkened.gains.at<std::uint16_t>(5, 5),
+              1.25, 0.03);
 }

@@ -2,8 +2,6 @@
 // OpenCV reference (open + close, 8-connected components, area filter), search windows,
 // sub-pixel moments of anti-aliased shapes, the cap, bounded work on colour noise, and
 // marker centroids on rendered frames.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,16 +14,16 @@
 #include <utility>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "soccer_vision/simulation/calibration_samples.h"
+#include "label_colors.h"
 #include "soccer_vision/segmentation/color_table.h"
-#include "soccer_vision/simulation/field_renderer.h"
-#include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
 #include "soccer_vision/segmentation/region_extractor.h"
-
-#include "label_colors.h"
+#include "soccer_vision/simulation/calibration_samples.h"
+#include "soccer_vision/simulation/field_renderer.h"
+#include "soccer_vision/simulation/game_simulator.h"
 
 using namespace soccer_vision;
 
@@ -56,7 +54,8 @@ cv::Mat colorsOf(const cv::Mat1b& labels) { return test::paintLabels(labels, kPa
 // some touching each other or the image border.
 cv::Mat1b randomLabels(std::mt19937& rng, cv::Size size) {
   cv::Mat1b labels(size, static_cast<std::uint8_t>(ColorClass::None));
-  std::uniform_int_distribution<int> shape(0, 3), count(10, 40), klass(0, static_cast<int>(kPalette.size()) - 1);
+  std::uniform_int_distribution<int> shape(0, 3), count(10, 40),
+      klass(0, static_cast<int>(kPalette.size()) - 1);
   std::uniform_int_distribution<int> px(-10, size.width + 10), py(-10, size.height + 10), extent(1, 40),
       thickness(1, 4), angle(0, 179);
   const int n = count(rng);
@@ -64,9 +63,16 @@ cv::Mat1b randomLabels(std::mt19937& rng, cv::Size size) {
     const cv::Scalar value(static_cast<int>(kPalette[static_cast<std::size_t>(klass(rng))].first));
     const cv::Point p(px(rng), py(rng));
     switch (shape(rng)) {
-      case 0: cv::rectangle(labels, cv::Rect(p, cv::Size(extent(rng), extent(rng))), value, cv::FILLED); break;
-      case 1: cv::ellipse(labels, p, cv::Size(extent(rng) / 2, extent(rng) / 2), angle(rng), 0, 360, value, cv::FILLED); break;
-      case 2: cv::line(labels, p, p + cv::Point(extent(rng) * 2 - 40, extent(rng) * 2 - 40), value, thickness(rng)); break;
+      case 0:
+        cv::rectangle(labels, cv::Rect(p, cv::Size(extent(rng), extent(rng))), value, cv::FILLED);
+        break;
+      case 1:
+        cv::ellipse(labels, p, cv::Size(extent(rng) / 2, extent(rng) / 2), angle(rng), 0, 360, value,
+                    cv::FILLED);
+        break;
+      case 2:
+        cv::line(labels, p, p + cv::Point(extent(rng) * 2 - 40, extent(rng) * 2 - 40), value, thickness(rng));
+        break;
       default: {
         std::vector<cv::Point> poly;
         for (int v = 0; v < 5; ++v) poly.push_back(p + cv::Point(extent(rng) - 20, extent(rng) - 20));
@@ -129,8 +135,8 @@ std::vector<Blob> blobsOf(const std::vector<Region>& regions) {
 std::string describe(const Blob& b) {
   char text[160];
   std::snprintf(text, sizeof text, "%s area %d bbox (%d,%d %dx%d) centroid (%.3f, %.3f)",
-                std::string(colorClassName(b.color)).c_str(), b.area, b.bbox.x, b.bbox.y, b.bbox.width, b.bbox.height,
-                b.cx, b.cy);
+                std::string(colorClassName(b.color)).c_str(), b.area, b.bbox.x, b.bbox.y, b.bbox.width,
+                b.bbox.height, b.cx, b.cy);
   return text;
 }
 
@@ -141,10 +147,10 @@ std::string describe(const Blob& b) {
                       got[i].area == want[i].area && got[i].bbox == want[i].bbox &&
                       std::abs(got[i].cx - want[i].cx) < 1e-9 && std::abs(got[i].cy - want[i].cy) < 1e-9;
     if (!same) {
-      return ::testing::AssertionFailure() << got.size() << " regions vs " << want.size() << " in the reference; first "
-                                           << "difference at " << i << ": got "
-                                           << (i < got.size() ? describe(got[i]) : "nothing") << ", want "
-                                           << (i < want.size() ? describe(want[i]) : "nothing");
+      return ::testing::AssertionFailure()
+             << got.size() << " regions vs " << want.size() << " in the reference; first "
+             << "difference at " << i << ": got " << (i < got.size() ? describe(got[i]) : "nothing")
+             << ", want " << (i < want.size() ? describe(want[i]) : "nothing");
     }
   }
   return ::testing::AssertionSuccess();
@@ -203,14 +209,15 @@ TEST(RegionExtractor, EqualsFullFrameMorphologyAndComponentsOnRandomLabelImages)
         const std::vector<Blob> want = reference(labels, params);
         const Extraction got = extract(colorsOf(labels), params);
         ASSERT_TRUE(sameBlobs(blobsOf(got.regions), want))
-            << "kernel " << kernel << " tile " << tile << " image " << i << " (" << labels.cols << "x" << labels.rows << ")";
+            << "kernel " << kernel << " tile " << tile << " image " << i << " (" << labels.cols << "x"
+            << labels.rows << ")";
         ++images;
         regions += static_cast<int>(want.size());
       }
     }
   }
-  std::printf("[ regions ] %d random label images, %d regions, all equal to the full-frame reference\n", images,
-              regions);
+  std::printf("[ regions ] %d random label images, %d regions, all equal to the full-frame reference\n",
+              images, regions);
   EXPECT_GT(regions, 1000);
 }
 
@@ -218,12 +225,14 @@ TEST(RegionExtractor, EqualsFullFrameMorphologyAndComponentsOnRandomLabelImages)
 TEST(RegionExtractor, EqualsReferenceForShapesAcrossTileBordersAndTouchingClasses) {
   cv::Mat1b labels(96, 128, static_cast<std::uint8_t>(ColorClass::None));
   const auto value = [](ColorClass c) { return cv::Scalar(static_cast<int>(c)); };
-  cv::rectangle(labels, cv::Rect(10, 28, 60, 6), value(ColorClass::Blue), cv::FILLED);     // across x = 32, 64
-  cv::rectangle(labels, cv::Rect(10, 34, 60, 6), value(ColorClass::Yellow), cv::FILLED);   // touching it below
-  cv::line(labels, {100, 2}, {70, 93}, value(ColorClass::Pink), 3);                        // diagonal, border to border
-  cv::circle(labels, {32, 70}, 9, value(ColorClass::Orange), cv::FILLED);                  // on a tile corner
-  cv::rectangle(labels, cv::Rect(120, 60, 8, 36), value(ColorClass::Blue), cv::FILLED);    // in the image corner
-  cv::rectangle(labels, cv::Rect(63, 60, 2, 30), value(ColorClass::Orange), cv::FILLED);   // too thin: opened away
+  cv::rectangle(labels, cv::Rect(10, 28, 60, 6), value(ColorClass::Blue), cv::FILLED);    // across x = 32, 64
+  cv::rectangle(labels, cv::Rect(10, 34, 60, 6), value(ColorClass::Yellow), cv::FILLED);  // touching it below
+  cv::line(labels, {100, 2}, {70, 93}, value(ColorClass::Pink), 3);        // diagonal, border to border
+  cv::circle(labels, {32, 70}, 9, value(ColorClass::Orange), cv::FILLED);  // on a tile corner
+  cv::rectangle(labels, cv::Rect(120, 60, 8, 36), value(ColorClass::Blue),
+                cv::FILLED);  // in the image corner
+  cv::rectangle(labels, cv::Rect(63, 60, 2, 30), value(ColorClass::Orange),
+                cv::FILLED);  // too thin: opened away
   for (const int kernel : {0, 3, 5}) {
     const RegionParams params = binaryParams(kernel, 32);
     const Extraction got = extract(colorsOf(labels), params);
@@ -240,7 +249,8 @@ TEST(RegionExtractor, EqualsReferenceForShapesAcrossTileBordersAndTouchingClasse
 TEST(RegionExtractor, ClassifiesOnlyTilesNearHitsOfPackedMarkers) {
   cv::Mat1b labels(160, 160, static_cast<std::uint8_t>(ColorClass::None));
   for (int t = 0; t < 8; ++t) {
-    cv::circle(labels, {16 * t + 8, 16 * t + 8}, 5, cv::Scalar(static_cast<int>(ColorClass::Blue)), cv::FILLED);
+    cv::circle(labels, {16 * t + 8, 16 * t + 8}, 5, cv::Scalar(static_cast<int>(ColorClass::Blue)),
+               cv::FILLED);
   }
   const RegionParams params = binaryParams(3, 16);
   const Extraction got = extract(colorsOf(labels), params);
@@ -248,7 +258,8 @@ TEST(RegionExtractor, ClassifiesOnlyTilesNearHitsOfPackedMarkers) {
   EXPECT_EQ(got.regions.size(), 8u);
   // 8 tiles of 16 x 16 (2048 px), plus the 5 x 5 opening tests of hits scanned before
   // their tile was known to be needed.
-  std::printf("[ packed ] %u pixels classified for 8 markers in a 128 x 128 area\n", got.stats.classified_pixels);
+  std::printf("[ packed ] %u pixels classified for 8 markers in a 128 x 128 area\n",
+              got.stats.classified_pixels);
   EXPECT_GE(got.stats.classified_pixels, 8u * 256u);
   EXPECT_LE(got.stats.classified_pixels, 8u * 256u + 8u * 4u * 25u);
 }
@@ -313,11 +324,13 @@ TEST(RegionExtractor, WindowedRegionsAreGlobalRegionsAndCoverTheWindows) {
       returned += static_cast<int>(got.size());
       // Every returned region is a whole global region near a window ...
       for (const Blob& b : got) {
-        ASSERT_TRUE(std::binary_search(global.begin(), global.end(), b)) << describe(b) << " is no global region";
+        ASSERT_TRUE(std::binary_search(global.begin(), global.end(), b))
+            << describe(b) << " is no global region";
         const Blob& g = *std::lower_bound(global.begin(), global.end(), b);
         EXPECT_TRUE(sameBlobs({b}, {g}));
         const cv::Rect near(b.bbox.x - 2, b.bbox.y - 2, b.bbox.width + 4, b.bbox.height + 4);
-        EXPECT_TRUE(std::any_of(windows.begin(), windows.end(), [&](const cv::Rect& w) { return !(w & near).empty(); }))
+        EXPECT_TRUE(std::any_of(windows.begin(), windows.end(),
+                                [&](const cv::Rect& w) { return !(w & near).empty(); }))
             << describe(b) << " is outside every window";
       }
       // ... and every global region inside a window is returned.
@@ -326,11 +339,13 @@ TEST(RegionExtractor, WindowedRegionsAreGlobalRegionsAndCoverTheWindows) {
                                         [&](const cv::Rect& w) { return (w & g.bbox) == g.bbox; });
         if (!inside) continue;
         ++checked;
-        EXPECT_TRUE(std::binary_search(got.begin(), got.end(), g)) << describe(g) << " inside a window is missing";
+        EXPECT_TRUE(std::binary_search(got.begin(), got.end(), g))
+            << describe(g) << " inside a window is missing";
       }
     }
   }
-  std::printf("[ windows ] %d regions returned, %d regions fully inside windows all found\n", returned, checked);
+  std::printf("[ windows ] %d regions returned, %d regions fully inside windows all found\n", returned,
+              checked);
   EXPECT_GT(checked, 50);
 }
 
@@ -340,8 +355,8 @@ namespace {
 
 // Exact-enough coverage: 64 x 64 samples in pixels near the edge, blended linearly
 // between the shape colour and the background (the renderer's linear light model).
-cv::Mat renderCoverage(cv::Size size, const std::function<double(double, double)>& sdf, const cv::Vec3b& shape,
-                       const cv::Vec3b& background) {
+cv::Mat renderCoverage(cv::Size size, const std::function<double(double, double)>& sdf,
+                       const cv::Vec3b& shape, const cv::Vec3b& background) {
   constexpr int kSamples = 64;
   cv::Mat3b image(size);
   for (int y = 0; y < size.height; ++y) {
@@ -362,7 +377,8 @@ cv::Mat renderCoverage(cv::Size size, const std::function<double(double, double)
         coverage = static_cast<double>(in) / (kSamples * kSamples);
       }
       for (int c = 0; c < 3; ++c) {
-        image(y, x)[c] = cv::saturate_cast<std::uint8_t>(background[c] + coverage * (shape[c] - background[c]));
+        image(y, x)[c] =
+            cv::saturate_cast<std::uint8_t>(background[c] + coverage * (shape[c] - background[c]));
       }
     }
   }
@@ -371,11 +387,13 @@ cv::Mat renderCoverage(cv::Size size, const std::function<double(double, double)
 
 // A table that, like one calibrated on real markers, takes the shape colour and its
 // mixtures down to 60 % coverage, and the background as a background class.
-std::shared_ptr<const ColorTable> blendTable(const cv::Vec3b& shape, const cv::Vec3b& background, ColorClass c) {
+std::shared_ptr<const ColorTable> blendTable(const cv::Vec3b& shape, const cv::Vec3b& background,
+                                             ColorClass c) {
   ClassPixels samples;
   for (int i = 60; i <= 100; i += 2) {
     cv::Vec3b p;
-    for (int k = 0; k < 3; ++k) p[k] = cv::saturate_cast<std::uint8_t>(background[k] + i / 100.0 * (shape[k] - background[k]));
+    for (int k = 0; k < 3; ++k)
+      p[k] = cv::saturate_cast<std::uint8_t>(background[k] + i / 100.0 * (shape[k] - background[k]));
     samples[c].push_back(p);
   }
   samples[ColorClass::RobotTop].assign(4, background);
@@ -396,8 +414,8 @@ TEST(RegionExtractor, CoverageWeightedMomentsOfAntiAliasedDiscsAndRectangles) {
     const double cx = 32 + sub(rng), cy = 30 + sub(rng);
     // Disc of a 40 mm role tag at ~5 mm/px.
     const double radius = 4.0 + 0.05 * i;
-    const cv::Mat disc = renderCoverage({64, 60}, [&](double x, double y) { return std::hypot(x - cx, y - cy) - radius; },
-                                        pink, black);
+    const cv::Mat disc = renderCoverage(
+        {64, 60}, [&](double x, double y) { return std::hypot(x - cx, y - cy) - radius; }, pink, black);
     const Extraction d = extract(disc, params, {}, classifier);
     ASSERT_EQ(d.regions.size(), 1u) << "disc " << i;
     disc_worst = std::max(disc_worst, std::hypot(d.regions[0].cx - cx, d.regions[0].cy - cy));
@@ -421,9 +439,10 @@ TEST(RegionExtractor, CoverageWeightedMomentsOfAntiAliasedDiscsAndRectangles) {
     const double error = std::remainder(r.regions[0].orientation - theta, M_PI);
     angle_worst = std::max(angle_worst, std::abs(error) * 180 / M_PI);
   }
-  std::printf("[ moments ] worst centroid error: discs %.4f px (binary moments %.3f px), 16x6 rectangles %.4f px; "
-              "worst orientation error %.3f deg\n",
-              disc_worst, binary_worst, rect_worst, angle_worst);
+  std::printf(
+      "[ moments ] worst centroid error: discs %.4f px (binary moments %.3f px), 16x6 rectangles %.4f px; "
+      "worst orientation error %.3f deg\n",
+      disc_worst, binary_worst, rect_worst, angle_worst);
   EXPECT_LT(disc_worst, 0.05);
   EXPECT_LT(rect_worst, 0.05);
   EXPECT_LT(angle_worst, 0.5);
@@ -434,14 +453,16 @@ TEST(RegionExtractor, CoverageWeightedMomentsOfAntiAliasedDiscsAndRectangles) {
 TEST(RegionExtractor, CapKeepsTheLargestRegionsAndCountsTheRest) {
   cv::Mat1b labels(120, 400, static_cast<std::uint8_t>(ColorClass::None));
   for (int i = 0; i < 20; ++i) {
-    cv::rectangle(labels, cv::Rect(5 + 19 * i, 10 + (i % 3) * 35, 6 + (i * 7) % 11, 5 + i), cv::Scalar(static_cast<int>(ColorClass::Blue)),
-                  cv::FILLED);
+    cv::rectangle(labels, cv::Rect(5 + 19 * i, 10 + (i % 3) * 35, 6 + (i * 7) % 11, 5 + i),
+                  cv::Scalar(static_cast<int>(ColorClass::Blue)), cv::FILLED);
   }
   cv::circle(labels, {200, 100}, 8, cv::Scalar(static_cast<int>(ColorClass::Orange)), cv::FILLED);
   const cv::Mat bgr = colorsOf(labels);
   RegionParams all = binaryParams(3, 32);
   const std::vector<Region> uncapped = extract(bgr, all).regions;
-  ASSERT_EQ(std::count_if(uncapped.begin(), uncapped.end(), [](const Region& r) { return r.color == ColorClass::Blue; }), 20);
+  ASSERT_EQ(std::count_if(uncapped.begin(), uncapped.end(),
+                          [](const Region& r) { return r.color == ColorClass::Blue; }),
+            20);
 
   RegionParams capped = all;
   capped.max_regions_per_class = 5;
@@ -459,7 +480,9 @@ TEST(RegionExtractor, CapKeepsTheLargestRegionsAndCountsTheRest) {
   EXPECT_EQ(got_areas, want_areas);
   EXPECT_EQ(got.stats.cap_hits[static_cast<int>(ColorClass::Blue)], 15u);
   EXPECT_EQ(got.stats.cap_hits[static_cast<int>(ColorClass::Orange)], 0u);
-  EXPECT_EQ(std::count_if(got.regions.begin(), got.regions.end(), [](const Region& r) { return r.color == ColorClass::Orange; }), 1);
+  EXPECT_EQ(std::count_if(got.regions.begin(), got.regions.end(),
+                          [](const Region& r) { return r.color == ColorClass::Orange; }),
+            1);
 }
 
 // ------------------------------------------------------------------ rendered frames
@@ -478,7 +501,8 @@ struct RenderedField {
   explicit RenderedField(GameSimulator& sim) {
     for (int camera = 0; camera < 2; ++camera) {
       renderers.push_back(std::make_unique<FieldRenderer>(
-          CameraModel::defaultCamera(field, camera, scenario.width, scenario.height), field, patterns, scenario));
+          CameraModel::defaultCamera(field, camera, scenario.width, scenario.height), field, patterns,
+          scenario));
     }
     ClassPixels samples;
     for (const auto& renderer : renderers) {
@@ -538,12 +562,14 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   const auto [normal_ms, noise_ms] =
       alternatingMedianMs([&] { extractor.extract(normal_frame, {}, regions, normal_stats); },
                           [&] { extractor.extract(noise_frame, {}, regions, noise_stats); }, 9);
-  std::printf("[ noise ] normal frame %.2f ms (%u grid points, %u pixels classified); colour noise %.2f ms "
-              "(%u pixels classified, %zu regions): ratio %.2f\n",
-              normal_ms, normal_stats.grid_points, normal_stats.classified_pixels, noise_ms,
-              noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
+  std::printf(
+      "[ noise ] normal frame %.2f ms (%u grid points, %u pixels classified); colour noise %.2f ms "
+      "(%u pixels classified, %zu regions): ratio %.2f\n",
+      normal_ms, normal_stats.grid_points, normal_stats.classified_pixels, noise_ms,
+      noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
   EXPECT_LE(noise_ms, 10 * normal_ms);
-  EXPECT_LE(noise_stats.classified_pixels, 10u * std::max(normal_stats.classified_pixels, 1u) + normal_stats.grid_points);
+  EXPECT_LE(noise_stats.classified_pixels,
+            10u * std::max(normal_stats.classified_pixels, 1u) + normal_stats.grid_points);
 }
 
 TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProjectedCentre) {
@@ -579,13 +605,14 @@ TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProje
         const double c = std::cos(robot.theta), s = std::sin(robot.theta);
         for (const ColoredMarker& m : rendered.patterns.markers(robot.team, robot.id)) {
           targets.push_back({m.color,
-                             {robot.x + c * m.shape.x - s * m.shape.y, robot.y + s * m.shape.x + c * m.shape.y,
-                              rendered.patterns.robot_height},
+                             {robot.x + c * m.shape.x - s * m.shape.y,
+                              robot.y + s * m.shape.x + c * m.shape.y, rendered.patterns.robot_height},
                              std::string(teamName(robot.team)) + " " + std::to_string(robot.id)});
         }
       }
       for (const BallState& ball : sim.state().balls) {
-        if (renderer->ballVisible(ball)) targets.push_back({ColorClass::Orange, {ball.x, ball.y, ball.z}, "ball"});
+        if (renderer->ballVisible(ball))
+          targets.push_back({ColorClass::Orange, {ball.x, ball.y, ball.z}, "ball"});
       }
       for (const Target& t : targets) {
         const Eigen::Vector2d expected = *renderer->camera().project(t.centre);
@@ -598,14 +625,16 @@ TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProje
           ++matched[r];
           error = d;
         }
-        EXPECT_EQ(found, 1) << colorClassName(t.color) << " marker of " << t.name << " at " << expected.transpose();
+        EXPECT_EQ(found, 1) << colorClassName(t.color) << " marker of " << t.name << " at "
+                            << expected.transpose();
         if (found == 1) errors.push_back(error);
       }
       // Regions of robots only partly in the image are expected; count the others.
       for (std::size_t r = 0; r < regions.size(); ++r) {
         if (matched[r]) continue;
         const cv::Point2d c(regions[r].cx, regions[r].cy);
-        const bool near_image_border = c.x < 40 || c.y < 40 || c.x > frame.image.cols - 40 || c.y > frame.image.rows - 40;
+        const bool near_image_border =
+            c.x < 40 || c.y < 40 || c.x > frame.image.cols - 40 || c.y > frame.image.rows - 40;
         extra += !near_image_border;
       }
     }
@@ -613,9 +642,10 @@ TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProje
   ASSERT_GT(errors.size(), 40u);
   std::sort(errors.begin(), errors.end());
   const auto at = [&](double q) { return errors[static_cast<std::size_t>(q * (errors.size() - 1))]; };
-  std::printf("[ rendered ] %zu markers: centroid error median %.3f px, 90 %% %.3f px, max %.3f px; "
-              "%d unmatched regions away from the image border\n",
-              errors.size(), at(0.5), at(0.9), errors.back(), extra);
+  std::printf(
+      "[ rendered ] %zu markers: centroid error median %.3f px, 90 %% %.3f px, max %.3f px; "
+      "%d unmatched regions away from the image border\n",
+      errors.size(), at(0.5), at(0.9), errors.back(), extra);
   EXPECT_LT(errors.back(), 0.3);
   EXPECT_EQ(extra, 0);
 }

@@ -1,12 +1,11 @@
 // Run-length connected components against cv::connectedComponentsWithStats
 // (connectivity 8) on random masks, in whole masks and in sub-rectangles: the component of
 // every pixel, area, bbox, moment sums, the runs of each component, the numbering.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <random>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "soccer_vision/segmentation/run_length_components.h"
@@ -17,8 +16,8 @@ namespace {
 
 cv::Mat randomMask(std::mt19937& rng, cv::Size size) {
   cv::Mat mask(size, CV_8UC1, cv::Scalar(0));
-  std::uniform_int_distribution<int> px(-5, size.width + 5), py(-5, size.height + 5), extent(1, 25), thickness(1, 3),
-      coin(0, 14);
+  std::uniform_int_distribution<int> px(-5, size.width + 5), py(-5, size.height + 5), extent(1, 25),
+      thickness(1, 3), coin(0, 14);
   for (int i = 0; i < 15; ++i) {
     cv::rectangle(mask, cv::Rect(px(rng), py(rng), extent(rng), extent(rng)), cv::Scalar(255), cv::FILLED);
     cv::line(mask, {px(rng), py(rng)}, {px(rng), py(rng)}, cv::Scalar(255), thickness(rng));
@@ -76,9 +75,10 @@ TEST(RunLengthComponents, EqualConnectedComponentsWithStatsOnRandomMasks) {
       const int c = ours[static_cast<std::size_t>(l)];
       const ComponentStats& component = rl.components()[static_cast<std::size_t>(c)];
       const int* s = stats.ptr<int>(l);
-      EXPECT_EQ(component.area, static_cast<std::uint32_t>(s[cv::CC_STAT_AREA])) << "mask " << i << " label " << l;
-      EXPECT_EQ(component.bbox,
-                cv::Rect(s[cv::CC_STAT_LEFT], s[cv::CC_STAT_TOP], s[cv::CC_STAT_WIDTH], s[cv::CC_STAT_HEIGHT]));
+      EXPECT_EQ(component.area, static_cast<std::uint32_t>(s[cv::CC_STAT_AREA]))
+          << "mask " << i << " label " << l;
+      EXPECT_EQ(component.bbox, cv::Rect(s[cv::CC_STAT_LEFT], s[cv::CC_STAT_TOP], s[cv::CC_STAT_WIDTH],
+                                         s[cv::CC_STAT_HEIGHT]));
       EXPECT_NEAR(static_cast<double>(component.sum_x) / component.area, centroids.at<double>(l, 0), 1e-9);
       EXPECT_NEAR(static_cast<double>(component.sum_y) / component.area, centroids.at<double>(l, 1), 1e-9);
       EXPECT_EQ(component.sum_xx, xx[static_cast<std::size_t>(l)]);
@@ -96,7 +96,8 @@ TEST(RunLengthComponents, EqualConnectedComponentsWithStatsOnRandomMasks) {
     for (int c = 1; c < n - 1; ++c) {
       const PixelRun& previous = *rl.runsBegin(c - 1);
       const PixelRun& first = *rl.runsBegin(c);
-      EXPECT_TRUE(previous.y < first.y || (previous.y == first.y && previous.x_begin < first.x_begin)) << "mask " << i;
+      EXPECT_TRUE(previous.y < first.y || (previous.y == first.y && previous.x_begin < first.x_begin))
+          << "mask " << i;
     }
     components += n - 1;
   }

@@ -7,21 +7,20 @@
 // Marker interior: a pixel whose label is a marker colour and whose 8 neighbours share it
 // (edge pixels are mixtures). Background: a non-marker pixel with no marker pixel among its
 // 8 neighbours; a false positive is one classified as a marker colour.
-#include <gtest/gtest.h>
-
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
 
-#include "soccer_vision/simulation/calibration_samples.h"
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
 #include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/segmentation/segmenter.h"
+#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
-#include "soccer_vision/segmentation/segmenter.h"
 
 using namespace soccer_vision;
 
@@ -67,19 +66,20 @@ constexpr Mode kOn{"on (normalised)", CalibrationLight::Normalized, 0.3};
 constexpr Mode kOnSharpened{"on + sharpen 0.5", CalibrationLight::Normalized, 0.3, 0.5};
 
 // Accuracy of each mode on `frames` frames spread over `seconds` after the calibration.
-std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<Mode>& modes, int frames, double seconds) {
+std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<Mode>& modes, int frames,
+                              double seconds) {
   const FieldGeometry field;
   const PatternSet patterns = patternSetByName(scenario.pattern);
   GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
-  const FieldRenderer renderer(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height), field, patterns,
-                               scenario);
+  const FieldRenderer renderer(CameraModel::defaultCamera(field, 0, scenario.width, scenario.height), field,
+                               patterns, scenario);
   RenderedFrame calibration;
   renderer.render(sim.state(), 0, calibration);
   const ColorSamples samples = calibrationSamples(sim.state(), renderer.camera(), field, patterns);
   std::vector<std::shared_ptr<const SegmentationModel>> models;
   for (const Mode& m : modes) {
-    models.push_back(SegmentationModel::fromTable(
-        std::make_shared<const ColorTable>(calibrateColorTable({{calibration.image, samples}}, {}, m.light))));
+    models.push_back(SegmentationModel::fromTable(std::make_shared<const ColorTable>(
+        calibrateColorTable({{calibration.image, samples}}, {}, m.light))));
   }
   std::vector<Accuracy> out(modes.size());
   const int steps_between = static_cast<int>(seconds * scenario.fps / frames);
@@ -98,8 +98,9 @@ std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<
   }
   for (std::size_t m = 0; m < modes.size(); ++m) {
     std::printf("[ %s ] %-16s marker interiors %.3f %% of %ld, background -> marker %.5f %% of %ld\n",
-                scenario.name.c_str(), modes[m].name, 100 * out[m].markers(), static_cast<long>(out[m].interior),
-                100 * out[m].falsePositives(), static_cast<long>(out[m].background));
+                scenario.name.c_str(), modes[m].name, 100 * out[m].markers(),
+                static_cast<long>(out[m].interior), 100 * out[m].falsePositives(),
+                static_cast<long>(out[m].background));
   }
   return out;
 }
@@ -112,7 +113,8 @@ std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<
 // Sharpening (paper §IV, 0.5) on top: 97.79 %: in flat marker interiors the Laplacian is
 // sensor noise, which it amplifies; it is off by default.
 TEST(SegmentationAccuracy, UnevenDriftingLightCalibratedOnOneFrame) {
-  const ScenarioConfig scenario = loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/uneven_drift.yaml");
+  const ScenarioConfig scenario =
+      loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/uneven_drift.yaml");
   const std::vector<Accuracy> a = measure(scenario, {kOff, kPaper, kOn, kOnSharpened}, 10, 20.0);
   ASSERT_GT(a[2].interior, 2000);
   EXPECT_GE(a[2].markers(), 0.99);
@@ -144,7 +146,8 @@ TEST(SegmentationBayer, QuadRegionsLieWhereTheColourFramePutsThem) {
   const PatternSet patterns = patternSetByName(colour.pattern);
   const CameraModel camera = CameraModel::defaultCamera(field, 0, colour.width, colour.height);
   GameSimulator sim(colour, field, patterns.maxRobotsPerTeam());
-  const FieldRenderer bgr_renderer(camera, field, patterns, colour), bayer_renderer(camera, field, patterns, mosaic);
+  const FieldRenderer bgr_renderer(camera, field, patterns, colour),
+      bayer_renderer(camera, field, patterns, mosaic);
   RenderedFrame bgr, bayer;
   bgr_renderer.render(sim.state(), 0, bgr);
   bayer_renderer.render(sim.state(), 0, bayer);
@@ -174,7 +177,13 @@ TEST(SegmentationBayer, QuadRegionsLieWhereTheColourFramePutsThem) {
   EXPECT_GE(within, static_cast<long>(distances.size()) * 85 / 100);
   const RegionParams q = quadLabelParams(RegionParams{});
   EXPECT_EQ(q.morph_kernel, 1);
-  EXPECT_EQ(quadLabelParams([] { RegionParams p; p.morph_kernel = 7; return p; }()).morph_kernel, 3);
+  EXPECT_EQ(quadLabelParams([] {
+              RegionParams p;
+              p.morph_kernel = 7;
+              return p;
+            }())
+                .morph_kernel,
+            3);
   EXPECT_EQ(q.min_area, 1);
 }
 
@@ -191,10 +200,10 @@ TEST(LabelParams, ScaleTheRegionParametersToTheLabelWidth) {
   EXPECT_EQ(labelParams(p, 960).morph_kernel, 3);
   const RegionParams low = labelParams(p, 780);
   EXPECT_EQ(low.morph_kernel, 1);
-  EXPECT_EQ(low.min_area, 2);                        // 5 x (780 / 1280)^2 = 1.86
-  EXPECT_EQ(low.max_area, 7427);                     // 20000 x 0.371
+  EXPECT_EQ(low.min_area, 2);     // 5 x (780 / 1280)^2 = 1.86
+  EXPECT_EQ(low.max_area, 7427);  // 20000 x 0.371
   EXPECT_EQ(low.tile_size, 10);
-  const RegionParams quads = quadLabelParams(p);     // = labelParams(p, 640)
+  const RegionParams quads = quadLabelParams(p);  // = labelParams(p, 640)
   EXPECT_EQ(quads.max_area, labelParams(p, 640).max_area);
   EXPECT_EQ(quads.tile_size, 8);
   RegionParams off = p;
@@ -215,14 +224,17 @@ TEST(ClassifiedColors, QuadColoursFillTheirQuadsAndBgrStaysAsItIs) {
   // RGGB: R at (0, 0), G at (1, 0) and (0, 1), B at (1, 1) of each quad.
   cv::Mat1b raw(4, 6);
   for (int y = 0; y < raw.rows; ++y) {
-    for (int x = 0; x < raw.cols; ++x) raw(y, x) = static_cast<std::uint8_t>(y % 2 == 0 ? (x % 2 == 0 ? 200 : 100 + x) : (x % 2 == 0 ? 101 + y : 50));
+    for (int x = 0; x < raw.cols; ++x)
+      raw(y, x) =
+          static_cast<std::uint8_t>(y % 2 == 0 ? (x % 2 == 0 ? 200 : 100 + x) : (x % 2 == 0 ? 101 + y : 50));
   }
   const cv::Mat3b quads = classifiedColors(raw, PixelLayout::BayerRggb);
   ASSERT_EQ(quads.size(), raw.size());
   for (int y = 0; y < raw.rows; ++y) {
     for (int x = 0; x < raw.cols; ++x) {
       const int qx = x / 2 * 2, qy = y / 2 * 2;
-      const cv::Vec3b want(raw(qy + 1, qx + 1), static_cast<std::uint8_t>((raw(qy, qx + 1) + raw(qy + 1, qx) + 1) >> 1),
+      const cv::Vec3b want(raw(qy + 1, qx + 1),
+                           static_cast<std::uint8_t>((raw(qy, qx + 1) + raw(qy + 1, qx) + 1) >> 1),
                            raw(qy, qx));
       ASSERT_EQ(quads(y, x), want) << x << ", " << y;
     }

@@ -1,13 +1,12 @@
 // The synthetic camera must be right to sub-pixel level: everything downstream (blob
 // centroids, pose accuracy, evaluation) is measured against it.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
 #include <utility>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "soccer_vision/simulation/field_renderer.h"
@@ -72,7 +71,8 @@ struct PaintMoments {
   double area = 0, u = 0, v = 0;  // area in pixels; centroid after finish()
   void add(const cv::Vec3b& pixel, const cv::Vec3f& base, const cv::Vec3f& paint, int px, int py) {
     const cv::Vec3f axis = paint - base;
-    const double a = std::clamp(static_cast<double>((toVec(pixel) - base).dot(axis) / axis.dot(axis)), 0.0, 1.0);
+    const double a =
+        std::clamp(static_cast<double>((toVec(pixel) - base).dot(axis) / axis.dot(axis)), 0.0, 1.0);
     area += a;
     u += a * px;
     v += a * py;
@@ -112,7 +112,8 @@ PaintMoments measureBall(const cv::Mat& image, const CameraModel& camera, const 
       const Eigen::Vector3d ray = camera.pixelRay(Eigen::Vector2d(u, v));
       const Eigen::Vector3d w = b - camera.cameraCentre();
       if ((w - w.dot(ray) * ray).norm() < 0.0215 + 0.004)
-        m.add(image.at<cv::Vec3b>(v, u), classAlbedo(ColorClass::Carpet), classAlbedo(ColorClass::Orange), u, v);
+        m.add(image.at<cv::Vec3b>(v, u), classAlbedo(ColorClass::Carpet), classAlbedo(ColorClass::Orange), u,
+              v);
     }
   return m;
 }
@@ -158,8 +159,8 @@ TEST(FieldRenderer, MarkersAndBallAppearWhereTheCameraProjectsThem) {
         const PaintMoments m = measureMarker(image, c.camera, robot, marker.shape, marker.color);
         const Eigen::Vector2d expected = *c.camera.project(onTop(robot, marker.shape.x, marker.shape.y));
         EXPECT_LT((m.centroid() - expected).norm(), c.tolerance_px)
-            << colorClassName(marker.color) << " of robot at " << robot.x << ", " << robot.y
-            << ": centroid " << m.centroid().transpose() << " expected " << expected.transpose();
+            << colorClassName(marker.color) << " of robot at " << robot.x << ", " << robot.y << ": centroid "
+            << m.centroid().transpose() << " expected " << expected.transpose();
       }
     }
     const BallState& ball = scene.balls[0];
@@ -205,7 +206,8 @@ TEST(FieldRenderer, SslDotsSitAtTheDesignLayout) {
   MarkerShape centre_disc;
   centre_disc.radius = 0.025;
   const double team_area = measureMarker(image, camera, robot, centre_disc, ColorClass::Blue).area;
-  EXPECT_NEAR(team_area / (M_PI * 0.025 * 0.025 * pixelsPerSquareMetre(camera, onTop(robot, 0, 0))), 1.0, 0.02);
+  EXPECT_NEAR(team_area / (M_PI * 0.025 * 0.025 * pixelsPerSquareMetre(camera, onTop(robot, 0, 0))), 1.0,
+              0.02);
 
   // DESIGN.md: 40 mm discs 65 mm from the centre at -60, +60, +135, -135 degrees.
   const double angles_deg[] = {-60, 60, 135, -135};
@@ -216,7 +218,8 @@ TEST(FieldRenderer, SslDotsSitAtTheDesignLayout) {
     dot.x = 0.065 * std::cos(angles_deg[k] * M_PI / 180);
     dot.y = 0.065 * std::sin(angles_deg[k] * M_PI / 180);
     const PaintMoments m = measureMarker(image, camera, robot, dot, colors[k]);
-    EXPECT_NEAR(m.area / (M_PI * 0.020 * 0.020 * pixelsPerSquareMetre(camera, onTop(robot, dot.x, dot.y))), 1.0, 0.02)
+    EXPECT_NEAR(m.area / (M_PI * 0.020 * 0.020 * pixelsPerSquareMetre(camera, onTop(robot, dot.x, dot.y))),
+                1.0, 0.02)
         << "dot at " << angles_deg[k] << " deg";
     // Back to the robot frame: the measured centroid's distance and bearing.
     const Eigen::Vector3d p = *camera.pixelToField(m.centroid(), 0.15);
@@ -253,14 +256,15 @@ TEST(FieldRenderer, LabelsNameTheDominantSurface) {
     // The side wall facing the camera, half way up, is neither top nor carpet.
     const Eigen::Vector2d to_camera =
         (camera.cameraCentre().head<2>() - Eigen::Vector2d(robot.x, robot.y)).normalized();
-    EXPECT_EQ(labelAt({robot.x + 0.0899 * to_camera.x(), robot.y + 0.0899 * to_camera.y(), 0.05}), ColorClass::None);
+    EXPECT_EQ(labelAt({robot.x + 0.0899 * to_camera.x(), robot.y + 0.0899 * to_camera.y(), 0.05}),
+              ColorClass::None);
   }
   EXPECT_EQ(labelAt({-3.0, 0.5, 0.0215}), ColorClass::Orange);
   EXPECT_EQ(labelAt({-1.0, 1.0, 0.0}), ColorClass::Carpet);
-  EXPECT_EQ(labelAt({0.0, 1.5, 0.0}), ColorClass::Line);           // halfway line
+  EXPECT_EQ(labelAt({0.0, 1.5, 0.0}), ColorClass::Line);                   // halfway line
   EXPECT_EQ(labelAt({-kField.halfLength(), 0.3, 0.0}), ColorClass::Line);  // goal line
-  EXPECT_EQ(labelAt({-4.7, 0.0, 0.0}), ColorClass::Carpet);        // boundary
-  EXPECT_EQ(labelAt({-4.9, 0.0, 0.0}), ColorClass::None);          // floor beyond the carpet
+  EXPECT_EQ(labelAt({-4.7, 0.0, 0.0}), ColorClass::Carpet);                // boundary
+  EXPECT_EQ(labelAt({-4.9, 0.0, 0.0}), ColorClass::None);                  // floor beyond the carpet
 }
 
 TEST(FieldRenderer, SameSeedAndFrameGiveTheSameImage) {
@@ -280,12 +284,14 @@ TEST(FieldRenderer, SameSeedAndFrameGiveTheSameImage) {
   const FieldRenderer renderer(camera, kField, PatternSet::twoTag(), scenario);
   EXPECT_GT(cv::norm(a, renderImage(renderer, scene, 8), cv::NORM_L1), 0.0);
   scenario.seed += 1;
-  const cv::Mat other_seed = renderImage(FieldRenderer(camera, kField, PatternSet::twoTag(), scenario), scene, 7);
+  const cv::Mat other_seed =
+      renderImage(FieldRenderer(camera, kField, PatternSet::twoTag(), scenario), scene, 7);
   EXPECT_GT(cv::norm(a, other_seed, cv::NORM_L1), 0.0);
 }
 
 TEST(FieldRenderer, CarpetLightingSpansTheUnevenRatio) {
-  ScenarioConfig scenario = loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/uneven_drift.yaml");
+  ScenarioConfig scenario =
+      loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/uneven_drift.yaml");
   ASSERT_GT(scenario.lighting.uneven_ratio, 1.2);
   scenario.sensor.noise_sigma = 0;
   const CameraModel camera = wholeFieldCamera();
@@ -382,7 +388,8 @@ TEST(FieldRenderer, BayerMosaicSamplesTheColourImage) {
     int mismatches = 0;
     for (int v = 0; v < bgr.rows; ++v)
       for (int u = 0; u < bgr.cols; ++u)
-        mismatches += frame.image.at<std::uint8_t>(v, u) != bgr.at<cv::Vec3b>(v, u)[channels[(v & 1) * 2 + (u & 1)]];
+        mismatches +=
+            frame.image.at<std::uint8_t>(v, u) != bgr.at<cv::Vec3b>(v, u)[channels[(v & 1) * 2 + (u & 1)]];
     EXPECT_EQ(mismatches, 0) << name;
   }
 }

@@ -1,11 +1,11 @@
 // The simulated game must respect its own limits: evaluation numbers are only meaningful
 // if nothing in the ground truth is physically impossible.
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "soccer_vision/simulation/game_simulator.h"
 
@@ -122,7 +122,7 @@ TEST(GameSimulator, BallBouncesOffTheCarpetEdgeAndRobots) {
   scenario.yellow_robots = 16;
   scenario.motion.robot_max_speed = 0;  // still robots as obstacles
   scenario.motion.ball_max_speed = 15;
-  scenario.motion.ball_friction = 0;    // between kicks the speed is constant...
+  scenario.motion.ball_friction = 0;  // between kicks the speed is constant...
   scenario.motion.kick_interval = 2.0;
   const FieldGeometry field;
   GameSimulator sim(scenario, field, 16);
@@ -136,7 +136,8 @@ TEST(GameSimulator, BallBouncesOffTheCarpetEdgeAndRobots) {
     const BallState& b = sim.state().balls[0];
     ASSERT_TRUE(field.onCarpet(b.x, b.y, -kBallRadius + kEps)) << "frame " << k;
     double nearest_robot = HUGE_VAL;
-    for (const RobotState& r : robots) nearest_robot = std::min(nearest_robot, std::hypot(b.x - r.x, b.y - r.y));
+    for (const RobotState& r : robots)
+      nearest_robot = std::min(nearest_robot, std::hypot(b.x - r.x, b.y - r.y));
     ASSERT_GE(nearest_robot, kRobotRadius + kBallRadius - kEps) << "frame " << k;
 
     const double speed = std::hypot(b.vx, b.vy), speed_before = std::hypot(before.vx, before.vy);

@@ -28,8 +28,8 @@ TEST(Scenario, EmptyDocumentIsTheEmbeddedDefault) {
 }
 
 TEST(Scenario, EveryPresetLoadsAndItsPatternExists) {
-  const std::vector<std::string> required = {"even_static", "uneven_drift", "fast_motion",
-                                             "crowded", "flicker_noise", "ssl_pattern"};
+  const std::vector<std::string> required = {"even_static", "uneven_drift",  "fast_motion",
+                                             "crowded",     "flicker_noise", "ssl_pattern"};
   for (const auto& name : required) {
     SCOPED_TRACE(name);
     const auto s = loadScenario(kScenarios + name + ".yaml");

@@ -4,21 +4,20 @@
 // pixel format, exposure/gain/frame rate applied and read back, and the reconnect path:
 // killing the fake camera makes grab() fail, re-opening fails clearly while it is gone and
 // succeeds with frames when it is back.
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <chrono>
 #include <iostream>
+#include <signal.h>
 #include <string>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <sys/wait.h>
 
 #include "soccer_vision/sources/aravis_source.h"
 #include "soccer_vision/sources/frame_pacer.h"
@@ -68,8 +67,7 @@ sv::FrameSourceOptions fakeOptions() {
 }
 
 // Opens, retrying for up to `seconds` (the fake camera needs a moment to listen).
-sv::OpenResult openWithin(sv::AravisSource& source, const sv::FrameSourceOptions& o,
-                          double seconds) {
+sv::OpenResult openWithin(sv::AravisSource& source, const sv::FrameSourceOptions& o, double seconds) {
   const double deadline = sv::systemClockNow() + seconds;
   sv::OpenResult r;
   do {

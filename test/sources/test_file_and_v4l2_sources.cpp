@@ -1,22 +1,20 @@
 // Tests of the file sources (video, images) on files written at test time, of the V4L2
 // source's pure parts (format negotiation, YUYV/UYVY/RGB/Bayer/MJPEG conversion, clocks),
 // of a missing/non-V4L2 device, and of the shared settings/pacing helpers.
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <linux/videodev2.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <linux/videodev2.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <sys/stat.h>
 
 #include "soccer_vision/sources/frame_pacer.h"
 #include "soccer_vision/sources/frame_source.h"
@@ -43,8 +41,10 @@ cv::Mat indexedFrame(int index) {
 
 int decodeIndex(const cv::Mat& m) {
   cv::Mat gray;
-  if (m.channels() == 3) cv::cvtColor(m, gray, cv::COLOR_BGR2GRAY);
-  else gray = m;
+  if (m.channels() == 3)
+    cv::cvtColor(m, gray, cv::COLOR_BGR2GRAY);
+  else
+    gray = m;
   int index = 0;
   for (int b = 0; b < 8; ++b)
     if (gray.at<std::uint8_t>(4, b * 8 + 4) > 128) index |= 1 << b;
@@ -79,8 +79,7 @@ Grabbed grabAll(sv::FrameSource& source, int max_frames) {
   Grabbed g;
   const sv::FrameFormat f = source.format();
   std::vector<std::uint8_t> buffer(f.bytes());
-  for (int attempts = 0; static_cast<int>(g.indices.size()) < max_frames && attempts < 10000;
-       ++attempts) {
+  for (int attempts = 0; static_cast<int>(g.indices.size()) < max_frames && attempts < 10000; ++attempts) {
     cv::Mat image(f.height, f.width, f.cv_type, buffer.data(), f.step);
     sv::FrameInfo info;
     std::string error;
@@ -150,8 +149,8 @@ class VideoSourceTest : public ::testing::Test {
     dir_ = makeTempDir("video");
     ASSERT_FALSE(dir_.empty());
     file_ = dir_ + "/indexed.avi";
-    cv::VideoWriter writer(file_, cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
-                           kFileFps, cv::Size(kWidth, kHeight));
+    cv::VideoWriter writer(file_, cv::CAP_FFMPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), kFileFps,
+                           cv::Size(kWidth, kHeight));
     ASSERT_TRUE(writer.isOpened()) << "OpenCV's FFmpeg back-end cannot write MJPG .avi";
     for (int i = 0; i < kFrames; ++i) writer.write(indexedFrame(i));
     writer.release();
@@ -239,7 +238,7 @@ TEST_F(ImagesSourceTest, FolderInOrderAtTheRateThenEnd) {
   EXPECT_TRUE(g.buffer_kept);
   EXPECT_TRUE(strictlyIncreasing(g.stamps));
   EXPECT_NEAR(medianInterval(g.stamps), 0.02, 1e-6);
-  EXPECT_GE(elapsed, 0.9 * (kFrames) * 0.02);  // paced, not faster than the rate
+  EXPECT_GE(elapsed, 0.9 * (kFrames)*0.02);  // paced, not faster than the rate
   for (const std::string& e : g.encodings) EXPECT_EQ(e, "bgr8");
   for (std::size_t i = 0; i < g.sequences.size(); ++i) EXPECT_EQ(g.sequences[i], i);
 }
@@ -426,12 +425,9 @@ TEST(V4l2Formats, NamesAndEncodings) {
 namespace {
 // A typical UVC webcam (YUYV slow at full HD, MJPEG fast) plus a Bayer mode.
 std::vector<sv::V4l2Mode> webcamModes() {
-  return {{V4L2_PIX_FMT_YUYV, 640, 480, {30, 15}},
-          {V4L2_PIX_FMT_YUYV, 1920, 1080, {5}},
-          {V4L2_PIX_FMT_MJPEG, 1920, 1080, {30, 15}},
-          {V4L2_PIX_FMT_MJPEG, 640, 480, {30}},
-          {V4L2_PIX_FMT_H264, 1920, 1080, {60}},
-          {V4L2_PIX_FMT_SRGGB8, 1280, 1024, {60, 30}}};
+  return {{V4L2_PIX_FMT_YUYV, 640, 480, {30, 15}},    {V4L2_PIX_FMT_YUYV, 1920, 1080, {5}},
+          {V4L2_PIX_FMT_MJPEG, 1920, 1080, {30, 15}}, {V4L2_PIX_FMT_MJPEG, 640, 480, {30}},
+          {V4L2_PIX_FMT_H264, 1920, 1080, {60}},      {V4L2_PIX_FMT_SRGGB8, 1280, 1024, {60, 30}}};
 }
 sv::V4l2Choice negotiate(const sv::V4l2Request& r) {
   sv::V4l2Choice c;
@@ -484,8 +480,7 @@ TEST(V4l2Formats, Negotiation) {
   EXPECT_FALSE(sv::negotiateV4l2Format(webcamModes(), r, c, error));
   EXPECT_NE(error.find("does not offer GREY"), std::string::npos) << error;
   EXPECT_NE(error.find("MJPG"), std::string::npos) << error;
-  EXPECT_FALSE(sv::negotiateV4l2Format({{V4L2_PIX_FMT_H264, 640, 480, {30}}}, sv::V4l2Request{},
-                                       c, error));
+  EXPECT_FALSE(sv::negotiateV4l2Format({{V4L2_PIX_FMT_H264, 640, 480, {30}}}, sv::V4l2Request{}, c, error));
   EXPECT_NE(error.find("no supported pixel format"), std::string::npos) << error;
 
   // A device without listed rates: the request is passed on.
@@ -523,8 +518,7 @@ TEST(V4l2Formats, YuyvAndUyvyToBgrWithStride) {
     std::vector<std::uint8_t> out(w * h * 3);
     cv::Mat dst(h, w, CV_8UC3, out.data());
     std::string error;
-    ASSERT_TRUE(sv::convertV4l2Frame(fourcc, data.data(), data.size(), w, h, bpl, dst, error))
-        << error;
+    ASSERT_TRUE(sv::convertV4l2Frame(fourcc, data.data(), data.size(), w, h, bpl, dst, error)) << error;
     EXPECT_EQ(dst.data, out.data());
     for (int row = 0; row < h; ++row)
       for (int x = 0; x < w; ++x) {
@@ -532,8 +526,8 @@ TEST(V4l2Formats, YuyvAndUyvyToBgrWithStride) {
         const cv::Vec3b want = yuvToBgr601(x % 2 ? q[1] : q[0], q[2], q[3]);
         const cv::Vec3b got = dst.at<cv::Vec3b>(row, x);
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(got[c], want[c], 3) << sv::v4l2FourccName(fourcc) << " pixel " << x << ","
-                                          << row << " channel " << c;
+          EXPECT_NEAR(got[c], want[c], 3)
+              << sv::v4l2FourccName(fourcc) << " pixel " << x << "," << row << " channel " << c;
       }
     // The first pair is red, Y 16/235 are black/white.
     EXPECT_GT(dst.at<cv::Vec3b>(0, 0)[2], 240);
@@ -555,8 +549,7 @@ TEST(V4l2Formats, BayerCopiedAsBayerAndDemosaicsRight) {
   std::vector<std::uint8_t> out(w * h);
   cv::Mat dst(h, w, CV_8UC1, out.data());
   std::string error;
-  ASSERT_TRUE(sv::convertV4l2Frame(V4L2_PIX_FMT_SRGGB8, raw.data(), raw.size(), w, h, bpl, dst,
-                                   error))
+  ASSERT_TRUE(sv::convertV4l2Frame(V4L2_PIX_FMT_SRGGB8, raw.data(), raw.size(), w, h, bpl, dst, error))
       << error;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) ASSERT_EQ(dst.at<std::uint8_t>(y, x), raw[y * bpl + x]);
@@ -582,26 +575,23 @@ TEST(V4l2Formats, RgbMjpegAndCorruptFrames) {
   std::vector<std::uint8_t> out(w * h * 3);
   cv::Mat dst(h, w, CV_8UC3, out.data());
   std::string error;
-  ASSERT_TRUE(sv::convertV4l2Frame(V4L2_PIX_FMT_RGB24, rgb.data, rgb.total() * 3, w, h, w * 3,
-                                   dst, error));
+  ASSERT_TRUE(sv::convertV4l2Frame(V4L2_PIX_FMT_RGB24, rgb.data, rgb.total() * 3, w, h, w * 3, dst, error));
   EXPECT_EQ(cv::norm(dst, bgr, cv::NORM_INF), 0);
 
   std::vector<std::uint8_t> jpeg;
   ASSERT_TRUE(cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 95}));
   dst.setTo(0);
-  ASSERT_TRUE(sv::convertV4l2Frame(V4L2_PIX_FMT_MJPEG, jpeg.data(), jpeg.size(), w, h, 0, dst,
-                                   error))
+  ASSERT_TRUE(sv::convertV4l2Frame(V4L2_PIX_FMT_MJPEG, jpeg.data(), jpeg.size(), w, h, 0, dst, error))
       << error;
   EXPECT_EQ(dst.data, out.data());
   EXPECT_LT(cv::norm(dst, bgr, cv::NORM_L1) / (w * h * 3), 6.0);
 
   std::vector<std::uint8_t> corrupt(jpeg.begin(), jpeg.begin() + 20);
-  EXPECT_FALSE(sv::convertV4l2Frame(V4L2_PIX_FMT_MJPEG, corrupt.data(), corrupt.size(), w, h, 0,
-                                    dst, error));
+  EXPECT_FALSE(sv::convertV4l2Frame(V4L2_PIX_FMT_MJPEG, corrupt.data(), corrupt.size(), w, h, 0, dst, error));
   EXPECT_NE(error.find("MJPEG"), std::string::npos) << error;
   cv::Mat wrong_size(h / 2, w, CV_8UC3);
-  EXPECT_FALSE(sv::convertV4l2Frame(V4L2_PIX_FMT_MJPEG, jpeg.data(), jpeg.size(), w, h / 2, 0,
-                                    wrong_size, error));
+  EXPECT_FALSE(
+      sv::convertV4l2Frame(V4L2_PIX_FMT_MJPEG, jpeg.data(), jpeg.size(), w, h / 2, 0, wrong_size, error));
 }
 
 TEST(V4l2Formats, MonotonicStampsOnTheWallClock) {

@@ -2,8 +2,6 @@
 // even_static and uneven_drift presets at 640x512) the tool writes a loadable table with its
 // illumination reference, prints the statistics, writes the preview, and rejects bad
 // arguments and files with exit status 2 and a message.
-#include <sys/wait.h>
-
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -12,9 +10,10 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <sys/wait.h>
 
-#include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/segmentation/color_table.h"
 
 using namespace soccer_vision;
 
@@ -23,7 +22,7 @@ namespace {
 const std::string kDir = ::testing::TempDir() + "/calibrate_colors_test";
 
 struct ToolRun {
-  int status = -1;  // exit status
+  int status = -1;     // exit status
   std::string output;  // stdout + stderr
 };
 
@@ -42,30 +41,25 @@ ToolRun run(const std::string& args) {
 class CalibrateColors : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir + "/even " + kDir +
-                           "/uneven").c_str()),
+    ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir + "/even " + kDir + "/uneven").c_str()),
               0);
-    for (const auto& [preset, sub] : {std::pair<std::string, std::string>{"even_static", "even"},
-                                      {"uneven_drift", "uneven"}}) {
-      const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " +
-                              SOCCER_VISION_SOURCE_DIR + "/config/scenarios/" + preset +
-                              ".yaml --frames 1 --width 640 --height 512 --out " + kDir + "/" +
-                              sub + "/s.bag > /dev/null";
+    for (const auto& [preset, sub] :
+         {std::pair<std::string, std::string>{"even_static", "even"}, {"uneven_drift", "uneven"}}) {
+      const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+                              "/config/scenarios/" + preset +
+                              ".yaml --frames 1 --width 640 --height 512 --out " + kDir + "/" + sub +
+                              "/s.bag > /dev/null";
       ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     }
   }
-  static std::string image(const std::string& sub = "even") {
-    return kDir + "/" + sub + "/first_frame.png";
-  }
-  static std::string samples(const std::string& sub = "even") {
-    return kDir + "/" + sub + "/samples.yaml";
-  }
+  static std::string image(const std::string& sub = "even") { return kDir + "/" + sub + "/first_frame.png"; }
+  static std::string samples(const std::string& sub = "even") { return kDir + "/" + sub + "/samples.yaml"; }
 };
 
 TEST_F(CalibrateColors, WritesTableStatisticsAndPreview) {
   const std::string out = kDir + "/table.svct", preview = kDir + "/preview.png";
-  const ToolRun r = run("--image " + image() + " --samples " + samples() + " --out " + out +
-                    " --preview " + preview);
+  const ToolRun r =
+      run("--image " + image() + " --samples " + samples() + " --out " + out + " --preview " + preview);
   ASSERT_EQ(r.status, 0) << r.output;
   std::printf("%s", r.output.c_str());
   // Statistics: a row per class with samples, the overlap count.
@@ -106,8 +100,8 @@ TEST_F(CalibrateColors, WritesTableStatisticsAndPreview) {
 
 TEST_F(CalibrateColors, SeveralImagesOneSamplesFileAndOptions) {
   const std::string out = kDir + "/two.svct";
-  const ToolRun r = run("--image " + image() + " --image " + image() + " --samples " + samples() +
-                    " --out " + out + " --threshold-lab 15 --threshold-h 10 --bins 60,8,8");
+  const ToolRun r = run("--image " + image() + " --image " + image() + " --samples " + samples() + " --out " +
+                        out + " --threshold-lab 15 --threshold-h 10 --bins 60,8,8");
   ASSERT_EQ(r.status, 0) << r.output;
   const ColorTable table = ColorTable::load(out);
   EXPECT_EQ(table.params().h_bins, 60);
@@ -122,9 +116,8 @@ TEST_F(CalibrateColors, SeveralImagesOneSamplesFileAndOptions) {
   EXPECT_EQ(table.statistics().classes[blue].samples, 2 * one.statistics().classes[blue].samples);
 
   // Images paired with their own samples files.
-  const ToolRun pairs = run("--image " + image() + " --image " + image("uneven") + " --samples " +
-                        samples() + " --samples " + samples("uneven") + " --out " + kDir +
-                        "/pairs.svct");
+  const ToolRun pairs = run("--image " + image() + " --image " + image("uneven") + " --samples " + samples() +
+                            " --samples " + samples("uneven") + " --out " + kDir + "/pairs.svct");
   ASSERT_EQ(pairs.status, 0) << pairs.output;
   EXPECT_GT(ColorTable::load(kDir + "/pairs.svct").statistics().classes[blue].samples,
             one.statistics().classes[blue].samples);
@@ -140,7 +133,8 @@ TEST_F(CalibrateColors, PaperTableOfVAsCaptured) {
   EXPECT_TRUE(table.illuminationLevels().empty());
   EXPECT_FALSE(table.illuminationReference().empty());
   EXPECT_EQ(table.params().v_margin, 3);
-  EXPECT_EQ(run("--image " + image() + " --samples " + samples() + " --out " + out + " --light dim").status, 2);
+  EXPECT_EQ(run("--image " + image() + " --samples " + samples() + " --out " + out + " --light dim").status,
+            2);
 }
 
 TEST_F(CalibrateColors, BadArgumentsAndFilesExit2) {
@@ -166,15 +160,14 @@ TEST_F(CalibrateColors, BadArgumentsAndFilesExit2) {
       {"--image " + image() + " --samples " + kDir + "/missing.yaml --out " + out, "missing.yaml"},
       {"--image " + image() + " --samples " + samples(), "--out"},
       {"--samples " + samples() + " --out " + out, "--image"},
-      {"--image " + image() + " --image " + image() + " --samples " + samples() + " --samples " +
-           samples() + " --samples " + samples() + " --out " + out,
+      {"--image " + image() + " --image " + image() + " --samples " + samples() + " --samples " + samples() +
+           " --samples " + samples() + " --out " + out,
        "samples files"},
       {"--image " + image() + " --samples " + samples() + " --out " + out + " --bins 90,16", "--bins"},
       {"--image " + image() + " --samples " + samples() + " --out " + out + " --threshold-h x",
        "--threshold-h"},
       {"--image " + image() + " --samples " + samples() + " --out " + out + " --frobnicate", "frobnicate"},
-      {"--image " + image() + " --samples " + samples() + " --out " + kDir + "/no/dir/t.svct",
-       "no/dir"},
+      {"--image " + image() + " --samples " + samples() + " --out " + kDir + "/no/dir/t.svct", "no/dir"},
   };
   for (const Case& c : cases) {
     const ToolRun r = run(c.args);

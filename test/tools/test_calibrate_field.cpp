@@ -2,14 +2,13 @@
 // (both cameras, 640x512): the written camera_pose.yaml equals the simulator's camera
 // (< 1 mm, < 0.1°), the per-point errors and the RMS are printed, and bad input gives a
 // non-zero exit with a message naming the problem.
-#include <sys/wait.h>
-
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
@@ -43,9 +42,10 @@ class CalibrateField : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir).c_str()), 0);
-    const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
-                            "/config/scenarios/even_static.yaml --frames 1 --width 640 --height 512 --cameras 0,1 --out " +
-                            kDir + "/s.bag > /dev/null";
+    const std::string cmd =
+        std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+        "/config/scenarios/even_static.yaml --frames 1 --width 640 --height 512 --cameras 0,1 --out " + kDir +
+        "/s.bag > /dev/null";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
 };
@@ -61,8 +61,8 @@ TEST_F(CalibrateField, RecoversBothSimulatorCamerasFromMakeScenarioFiles) {
   for (int cam : {0, 1}) {
     const std::string c = "_camera_" + std::to_string(cam);
     const std::string out = kDir + "/camera_pose" + c + ".yaml";
-    const ToolRun r = run("--camera-info " + kDir + "/camera_info" + c + ".yaml --points " + kDir + "/field_points" + c +
-                          ".yaml --out " + out + " --camera-id " + std::to_string(cam));
+    const ToolRun r = run("--camera-info " + kDir + "/camera_info" + c + ".yaml --points " + kDir +
+                          "/field_points" + c + ".yaml --out " + out + " --camera-id " + std::to_string(cam));
     ASSERT_EQ(r.status, 0) << r.output;
     std::printf("%s", r.output.c_str());
     const auto points = loadFieldCorrespondences(kDir + "/field_points" + c + ".yaml");
@@ -82,12 +82,15 @@ TEST_F(CalibrateField, RecoversBothSimulatorCamerasFromMakeScenarioFiles) {
     // The pose belongs to that camera_info and builds the same camera model.
     const CameraIntrinsics k = loadCameraInfoYaml(kDir + "/camera_info" + c + ".yaml");
     const CameraModel model = cameraModelFromPose(pose, k, out);
-    EXPECT_LT((*model.project({-0.2 + cam * 0.4, 0.7, 0.15}) - *truth.project({-0.2 + cam * 0.4, 0.7, 0.15})).norm(), 0.01);
+    EXPECT_LT((*model.project({-0.2 + cam * 0.4, 0.7, 0.15}) - *truth.project({-0.2 + cam * 0.4, 0.7, 0.15}))
+                  .norm(),
+              0.01);
   }
 }
 
 TEST_F(CalibrateField, BadInputGivesNonZeroExitAndAClearMessage) {
-  const std::string info = kDir + "/camera_info.yaml", points = kDir + "/field_points.yaml", out = kDir + "/bad_out.yaml";
+  const std::string info = kDir + "/camera_info.yaml", points = kDir + "/field_points.yaml",
+                    out = kDir + "/bad_out.yaml";
   // Too few points.
   const auto all = loadFieldCorrespondences(points);
   writeTextFile(kDir + "/three.yaml", toYaml(std::vector<FieldCorrespondence>(all.begin(), all.begin() + 3)));

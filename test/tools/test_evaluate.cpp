@@ -83,8 +83,8 @@ class Evaluate : public ::testing::Test {
   static void SetUpTestSuite() {
     ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir).c_str()), 0);
     const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
-                            "/config/scenarios/uneven_drift.yaml --frames " + std::to_string(kFrames) + " --out " +
-                            kDir + "/s.bag > /dev/null";
+                            "/config/scenarios/uneven_drift.yaml --frames " + std::to_string(kFrames) +
+                            " --out " + kDir + "/s.bag > /dev/null";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
 };
@@ -93,7 +93,7 @@ class Evaluate : public ::testing::Test {
 
 TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
   const Command r = run("--bag " + kDir + "/s.bag --results " + kDir + "/results.jsonl --json " + kDir +
-                    "/report.json --plots " + kDir + "/plots");
+                        "/report.json --plots " + kDir + "/plots");
   ASSERT_EQ(r.status, 0) << r.output;
   std::printf("%s", r.output.c_str());
   const json report = readJson(kDir + "/report.json");
@@ -116,17 +116,19 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
 
   // Scoring the written results again, results-only, gives the same figures (the file
   // keeps 0.1 mm: the RMSE agrees to a fraction of that).
-  const Command again = run("--results-only --results " + kDir + "/results.jsonl --bag " + kDir + "/s.bag --json " +
-                        kDir + "/again.json");
+  const Command again = run("--results-only --results " + kDir + "/results.jsonl --bag " + kDir +
+                            "/s.bag --json " + kDir + "/again.json");
   ASSERT_EQ(again.status, 0) << again.output;
   const json a = readJson(kDir + "/again.json");
   EXPECT_EQ(a["robots"]["matched"], report["robots"]["matched"]);
   EXPECT_EQ(a["robots"]["false_positives"], report["robots"]["false_positives"]);
-  EXPECT_NEAR(a["robots"]["position_rmse_mm"].get<double>(), report["robots"]["position_rmse_mm"].get<double>(), 0.05);
+  EXPECT_NEAR(a["robots"]["position_rmse_mm"].get<double>(),
+              report["robots"]["position_rmse_mm"].get<double>(), 0.05);
 }
 
 TEST_F(Evaluate, FrameStepProcessesEveryNthFrame) {
-  const Command r = run("--bag " + kDir + "/s.bag --frame-step 3 --skip-table2 --json " + kDir + "/step3.json");
+  const Command r =
+      run("--bag " + kDir + "/s.bag --frame-step 3 --skip-table2 --json " + kDir + "/step3.json");
   ASSERT_EQ(r.status, 0) << r.output;
   const json report = readJson(kDir + "/step3.json");
   EXPECT_EQ(report["frames_processed"].get<int>(), kFrames / 3);
@@ -141,8 +143,8 @@ TEST_F(Evaluate, ResultsOnlyScoresExactlyTheHandCount) {
 
   std::vector<FrameRecord> results = perfectResults(truth);
   writeJsonLines(kDir + "/perfect.jsonl", results);
-  Command r = run("--results-only --results " + kDir + "/perfect.jsonl --truth " + kDir + "/truth.jsonl --json " + kDir +
-              "/perfect.json");
+  Command r = run("--results-only --results " + kDir + "/perfect.jsonl --truth " + kDir +
+                  "/truth.jsonl --json " + kDir + "/perfect.json");
   ASSERT_EQ(r.status, 0) << r.output;
   json j = readJson(kDir + "/perfect.json");
   EXPECT_EQ(j["robots"]["matched"].get<std::int64_t>(), n);
@@ -158,8 +160,8 @@ TEST_F(Evaluate, ResultsOnlyScoresExactlyTheHandCount) {
   results[10].robots[0].id = 5;
   results[20].robots[1].x += 0.080;
   writeJsonLines(kDir + "/two_wrong.jsonl", results);
-  r = run("--results-only --results " + kDir + "/two_wrong.jsonl --truth " + kDir + "/truth.jsonl --json " + kDir +
-          "/two_wrong.json");
+  r = run("--results-only --results " + kDir + "/two_wrong.jsonl --truth " + kDir + "/truth.jsonl --json " +
+          kDir + "/two_wrong.json");
   ASSERT_EQ(r.status, 0) << r.output;
   j = readJson(kDir + "/two_wrong.json");
   EXPECT_EQ(j["robots"]["truth"].get<std::int64_t>(), n);
@@ -200,7 +202,9 @@ TEST_F(Evaluate, SkipsUnreadableImagesWithACount) {
   }
   const Command r = run("--bag " + kDir + "/damaged.bag --skip-table2 --json " + kDir + "/damaged.json");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("skipped: 1 images of unsupported encodings, 1 truncated, 0 of another size"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("skipped: 1 images of unsupported encodings, 1 truncated, 0 of another size"),
+            std::string::npos)
+      << r.output;
   const json j = readJson(kDir + "/damaged.json");
   EXPECT_EQ(j["frames_processed"].get<int>(), kFrames - 2);
   EXPECT_GE(j["robots"]["detection_rate"].get<double>(), 0.999);

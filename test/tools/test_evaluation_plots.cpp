@@ -1,8 +1,6 @@
 // Evaluation figures (plot_canvas.h, evaluation_plots.h, sample_statistics.h): tick values,
 // where data land in the rendered image (read back pixel by pixel), gaps at NaN, and that
 // each figure writes a PNG of the expected size with its series' colours in it.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -10,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "evaluation_plots.h"
@@ -25,7 +24,8 @@ const cv::Scalar kRed(0, 0, 220), kGreen(0, 160, 0), kBlue(200, 60, 0);
 
 void expectTicks(const std::vector<double>& got, const std::vector<double>& expected) {
   ASSERT_EQ(got.size(), expected.size());
-  for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], expected[i], 1e-12 * (1 + std::abs(expected[i]))) << i;
+  for (size_t i = 0; i < got.size(); ++i)
+    EXPECT_NEAR(got[i], expected[i], 1e-12 * (1 + std::abs(expected[i]))) << i;
 }
 
 bool near(const cv::Vec3b& px, const cv::Scalar& c, int tolerance) {
@@ -58,9 +58,10 @@ double meanColumn(const cv::Mat& img, const cv::Scalar& c) {
 }
 
 std::string tempDir() {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("test_evaluation_plots_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                    "_" + std::to_string(std::random_device{}()));
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      ("test_evaluation_plots_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+       std::to_string(std::random_device{}()));
   std::filesystem::create_directories(dir);
   return dir.string();
 }
@@ -84,7 +85,7 @@ TEST(NiceTicks, KnownRanges) {
 TEST(NiceTicks, ZeroWidthRangeIsWidenedAroundTheValue) {
   expectTicks(niceTicks(5, 5), {4.6, 4.8, 5.0, 5.2, 5.4});  // 5 ± 0.5
   expectTicks(niceTicks(0, 0), {-0.4, -0.2, 0, 0.2, 0.4});
-  EXPECT_EQ(niceTicks(0, 0)[2], 0.0);  // exactly zero, not 1e-17
+  EXPECT_EQ(niceTicks(0, 0)[2], 0.0);                     // exactly zero, not 1e-17
   const std::vector<double> big = niceTicks(2000, 2000);  // ± 5 %
   EXPECT_GE(big.size(), 2u);
   EXPECT_GE(big.front(), 1900);
@@ -101,7 +102,8 @@ TEST(NiceTicks, StepsAreOneTwoFiveAndTicksStayInsideTheRange) {
     const int max_ticks = 2 + i % 10;
     const double step = niceTickStep(a, b, max_ticks);
     const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
-    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-9 || std::abs(mantissa - 2) < 1e-9 || std::abs(mantissa - 5) < 1e-9)
+    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-9 || std::abs(mantissa - 2) < 1e-9 ||
+                std::abs(mantissa - 5) < 1e-9)
         << a << " .. " << b << ": step " << step;
     const std::vector<double> ticks = niceTicks(a, b, max_ticks);
     ASSERT_GE(ticks.size(), 1u) << a << " .. " << b;
@@ -204,7 +206,8 @@ TEST(PlotCanvas, EqualAspectKeepsMetresSquare) {
   int x0 = img.cols, x1 = -1, y0 = img.rows, y1 = -1;
   for (int y = 0; y < img.rows; ++y)
     for (int x = 0; x < img.cols; ++x)
-      if (near(img.at<cv::Vec3b>(y, x), kGreen, 40)) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      if (near(img.at<cv::Vec3b>(y, x), kGreen, 40))
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
   ASSERT_GE(x1, 0);
   EXPECT_NEAR(x1 - x0, y1 - y0, 1.0);  // drawn square, in pixels
   EXPECT_NEAR(x1 - x0, px_per_m_x, 2.0);
@@ -397,7 +400,8 @@ TEST(EvaluationPlots, StageTimingHasOneHistogramPerStage) {
   }
   const cv::Mat img = renderStageTimingHistogram(s);
   ASSERT_EQ(img.size(), cv::Size(1000, 44 + 2 * 330));  // 2 × 2 panels under the title
-  for (int i = 0; i < 3; ++i) EXPECT_GT(countColor(img, stageColor(i), 6), 2000) << s.stage[static_cast<size_t>(i)];
+  for (int i = 0; i < 3; ++i)
+    EXPECT_GT(countColor(img, stageColor(i), 6), 2000) << s.stage[static_cast<size_t>(i)];
   EXPECT_EQ(countColor(img, stageColor(3), 6), 0);  // the fourth panel is empty
   s.ms.pop_back();
   EXPECT_THROW(renderStageTimingHistogram(s), std::invalid_argument);

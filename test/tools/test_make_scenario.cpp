@@ -64,7 +64,8 @@ TEST_F(MakeScenario, BagHasAllTopicsWithEqualStamps) {
     stamps[m.getTopic()].push_back(stamp);
   }
   for (const std::string cam : {"/camera_0", "/camera_1"}) {
-    for (const std::string topic : {"/image_raw", "/camera_info", "/ground_truth/robots", "/ground_truth/balls"}) {
+    for (const std::string topic :
+         {"/image_raw", "/camera_info", "/ground_truth/robots", "/ground_truth/balls"}) {
       ASSERT_EQ(stamps[cam + topic].size(), static_cast<std::size_t>(kFrames)) << cam + topic;
       EXPECT_EQ(stamps[cam + topic], stamps["/camera_0/image_raw"]) << cam + topic;
     }
@@ -113,7 +114,8 @@ TEST_F(MakeScenario, SamplesAndFieldPointsMatchTheFirstFrame) {
   for (const auto& poly : samples.at(ColorClass::Blue)) {
     Eigen::Vector2d c(0, 0);
     for (const auto& p : poly) c += p / poly.size();
-    const cv::Vec3b bgr = first.at<cv::Vec3b>(static_cast<int>(std::lround(c.y())), static_cast<int>(std::lround(c.x())));
+    const cv::Vec3b bgr =
+        first.at<cv::Vec3b>(static_cast<int>(std::lround(c.y())), static_cast<int>(std::lround(c.x())));
     EXPECT_GT(bgr[0], bgr[2] + 40) << "pixel " << c.transpose();
   }
   const auto points = loadFieldCorrespondences(kDir + "/field_points.yaml");
@@ -128,6 +130,10 @@ TEST_F(MakeScenario, SamplesAndFieldPointsMatchTheFirstFrame) {
 TEST(MakeScenarioCli, BadArgumentsFailWithStatus2) {
   const std::string bin = MAKE_SCENARIO_BIN;
   EXPECT_EQ(WEXITSTATUS(std::system((bin + " --frames 3 > /dev/null 2>&1").c_str())), 2);
-  EXPECT_EQ(WEXITSTATUS(std::system((bin + " --preset /nonexistent.yaml --frames 3 --out /tmp/x.bag > /dev/null 2>&1").c_str())), 2);
-  EXPECT_EQ(WEXITSTATUS(std::system((bin + " --preset x.yaml --frames 3 --out /tmp/x.bag --cameras 2 > /dev/null 2>&1").c_str())), 2);
+  EXPECT_EQ(WEXITSTATUS(std::system(
+                (bin + " --preset /nonexistent.yaml --frames 3 --out /tmp/x.bag > /dev/null 2>&1").c_str())),
+            2);
+  EXPECT_EQ(WEXITSTATUS(std::system(
+                (bin + " --preset x.yaml --frames 3 --out /tmp/x.bag --cameras 2 > /dev/null 2>&1").c_str())),
+            2);
 }

@@ -64,10 +64,11 @@ TEST(HeadingManeuver, TurnsStartingAt8RadPerSecondAreFollowedAtOnce) {
   RobotFilterParams off = p;
   off.maneuver_omega_change = 0;
   const TurnRun without = runTurns(off, 8.0, 0.004, 11);
-  std::printf("turns at 8 rad/s: heading RMSE %.2f deg, worst %.2f deg, %d manoeuvres, %d rejections; "
-              "without manoeuvres %.2f deg, worst %.2f deg, %d rejections\n",
-              with.rmse / kDeg, with.worst / kDeg, with.heading_maneuvers, with.heading_rejections,
-              without.rmse / kDeg, without.worst / kDeg, without.heading_rejections);
+  std::printf(
+      "turns at 8 rad/s: heading RMSE %.2f deg, worst %.2f deg, %d manoeuvres, %d rejections; "
+      "without manoeuvres %.2f deg, worst %.2f deg, %d rejections\n",
+      with.rmse / kDeg, with.worst / kDeg, with.heading_maneuvers, with.heading_rejections,
+      without.rmse / kDeg, without.worst / kDeg, without.heading_rejections);
   EXPECT_LT(with.rmse, 1.0 * kDeg);
   EXPECT_LT(with.worst, 5.0 * kDeg);
   EXPECT_EQ(with.heading_rejections, 0);

@@ -30,15 +30,15 @@ TEST(RobotFilter, ConstantVelocityTargetConverges) {
     const double t = k * kDt;
     return Eigen::Vector3d(-1.0 + vx * t, 0.5 + vy * t, wrapToPi(0.3 + omega * t));
   };
-  RobotFilter f(p, {truth(0).x() + noise_xy(rng), truth(0).y() + noise_xy(rng),
-                    truth(0).z() + noise_theta(rng), true});
+  RobotFilter f(
+      p, {truth(0).x() + noise_xy(rng), truth(0).y() + noise_xy(rng), truth(0).z() + noise_theta(rng), true});
   double filter_sq = 0, measurement_sq = 0, theta_sq = 0, v_sq = 0, omega_sq = 0;
   int n = 0;
   for (int k = 1; k <= 300; ++k) {
     f.predict(kDt);
     const Eigen::Vector3d g = truth(k);
-    const RobotMeasurement m{g.x() + noise_xy(rng), g.y() + noise_xy(rng),
-                             wrapToPi(g.z() + noise_theta(rng)), true};
+    const RobotMeasurement m{g.x() + noise_xy(rng), g.y() + noise_xy(rng), wrapToPi(g.z() + noise_theta(rng)),
+                             true};
     ASSERT_EQ(f.update(m), GateResult::Accepted) << "frame " << k;
     if (k >= 60) {  // after one second
       filter_sq += std::pow(f.state()(0) - g.x(), 2) + std::pow(f.state()(1) - g.y(), 2);
@@ -52,12 +52,13 @@ TEST(RobotFilter, ConstantVelocityTargetConverges) {
   const double rmse = std::sqrt(filter_sq / n), measurement_rmse = std::sqrt(measurement_sq / n);
   const double theta_rmse = std::sqrt(theta_sq / n), v_rmse = std::sqrt(v_sq / n),
                omega_rmse = std::sqrt(omega_sq / n);
-  std::printf("robot CV (defaults): position RMSE %.2f mm (measurements %.2f mm), heading RMSE "
-              "%.4f rad (measurements %.3f), velocity RMSE %.3f m/s, omega RMSE %.3f rad/s\n",
-              1e3 * rmse, 1e3 * measurement_rmse, theta_rmse, p.sigma_theta, v_rmse, omega_rmse);
+  std::printf(
+      "robot CV (defaults): position RMSE %.2f mm (measurements %.2f mm), heading RMSE "
+      "%.4f rad (measurements %.3f), velocity RMSE %.3f m/s, omega RMSE %.3f rad/s\n",
+      1e3 * rmse, 1e3 * measurement_rmse, theta_rmse, p.sigma_theta, v_rmse, omega_rmse);
   EXPECT_LT(rmse, 0.85 * measurement_rmse);
   EXPECT_LT(theta_rmse, 0.8 * p.sigma_theta);
-  EXPECT_LT(v_rmse, 0.2);    // of 1.7 m/s
+  EXPECT_LT(v_rmse, 0.2);  // of 1.7 m/s
   EXPECT_LT(omega_rmse, 0.5);
   // The estimate is unbiased: the final velocity is close, and a filter made for a
   // smoother target (lower process noise) gets the velocity much better.

@@ -2,7 +2,6 @@
 #include <random>
 
 #include <gtest/gtest.h>
-
 #include <opencv2/core.hpp>
 
 #include "soccer_vision/common/field_geometry.h"
@@ -68,8 +67,8 @@ void drive(TrackedRun& run, bool is_ball, const Eigen::Vector2d& start, const Ei
 
 struct Case {
   bool ball;
-  double speed;     // m/s
-  int frame_step;   // at 60 Hz
+  double speed;    // m/s
+  int frame_step;  // at 60 Hz
 };
 
 class NextPositionInWindow : public ::testing::TestWithParam<Case> {};
@@ -94,10 +93,11 @@ TEST_P(NextPositionInWindow, ContainsTheTrueNextPosition) {
   const auto truth = camera.project({run.next_truth.x(), run.next_truth.y(), height});
   ASSERT_TRUE(truth && camera.inImage(*truth));
   const double travel_px = c.speed * interval / 0.005;  // ~5 mm per pixel
-  std::printf("%s at %.0f m/s, %.0f Hz (%d frames): window %dx%d, true position %.1f px from "
-              "its centre (one frame of travel: %.0f px)\n",
-              c.ball ? "ball" : "robot", c.speed, 60.0 / c.frame_step, frames, w->rect.width,
-              w->rect.height, (*truth - w->centre).norm(), travel_px);
+  std::printf(
+      "%s at %.0f m/s, %.0f Hz (%d frames): window %dx%d, true position %.1f px from "
+      "its centre (one frame of travel: %.0f px)\n",
+      c.ball ? "ball" : "robot", c.speed, 60.0 / c.frame_step, frames, w->rect.width, w->rect.height,
+      (*truth - w->centre).norm(), travel_px);
   EXPECT_TRUE(contains(w->rect, *truth));
   EXPECT_TRUE(w->expected);
   // The window follows the prediction, not the last position.
@@ -107,8 +107,8 @@ TEST_P(NextPositionInWindow, ContainsTheTrueNextPosition) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Speeds, NextPositionInWindow,
-                         ::testing::Values(Case{false, 5.0, 1}, Case{false, 5.0, 4},
-                                           Case{true, 15.0, 1}, Case{true, 15.0, 4}));
+                         ::testing::Values(Case{false, 5.0, 1}, Case{false, 5.0, 4}, Case{true, 15.0, 1},
+                                           Case{true, 15.0, 4}));
 
 TEST(SearchWindows, ClippedAtTheImageBorderAndDroppedOutsideIt) {
   const FieldGeometry field;
@@ -119,7 +119,7 @@ TEST(SearchWindows, ClippedAtTheImageBorderAndDroppedOutsideIt) {
   edge.x = -4.78;  // at the end of the carpet: the window hangs over the image border
   edge.y = 0.0;
   far.track_id = 2;
-  far.x = 3.0;     // in camera 1's half
+  far.x = 3.0;  // in camera 1's half
   out.robots = {edge, far};
   const auto windows = searchWindows(out, cam0, 1.0 / 60);
   ASSERT_EQ(windows.size(), 1u);
@@ -181,9 +181,9 @@ TEST(SearchWindows, GlobalSearchWhenATargetExpectedInThisCameraIsMissing) {
     RobotDetection left, right;
     left.team = right.team = Team::Blue;
     left.id = 0;
-    left.x = -2.0;   // in camera 0's view
+    left.x = -2.0;  // in camera 0's view
     right.id = 1;
-    right.x = 3.0;   // in camera 1's half: camera 0 is not expected to see it
+    right.x = 3.0;  // in camera 1's half: camera 0 is not expected to see it
     left.confidence = right.confidence = 0.9;
     if (with_left) f.robots.push_back(left);
     if (with_right) f.robots.push_back(right);
@@ -195,7 +195,8 @@ TEST(SearchWindows, GlobalSearchWhenATargetExpectedInThisCameraIsMissing) {
     return policy.decide(windows, tracker.numRobotTracks() + tracker.numBallTracks());
   };
   EXPECT_EQ(step(0, true), GlobalSearchReason::First);
-  for (int k = 1; k < 10; ++k) EXPECT_EQ(step(k, true), GlobalSearchReason::None) << k;  // blue 1 unseen: fine
+  for (int k = 1; k < 10; ++k)
+    EXPECT_EQ(step(k, true), GlobalSearchReason::None) << k;      // blue 1 unseen: fine
   EXPECT_EQ(step(10, false), GlobalSearchReason::TargetMissing);  // blue 0 missed in its window
   EXPECT_EQ(step(11, true), GlobalSearchReason::None);
   ASSERT_EQ(tracker.numRobotTracks(), 2u);

@@ -64,7 +64,7 @@ TEST(TrackerTimeline, OrdersFusesDropsAndResets) {
   d = t.accept(10.0 + kDt - 0.005, 1);  // the other camera, 5 ms behind
   EXPECT_EQ(d.event, TimeEvent::SameTime);
   EXPECT_NEAR(d.lag, 0.005, 1e-12);
-  EXPECT_NEAR(t.now(), 10.0 + kDt, 1e-12);  // never moved back
+  EXPECT_NEAR(t.now(), 10.0 + kDt, 1e-12);                           // never moved back
   EXPECT_EQ(t.accept(10.0 + kDt - 0.05, 2).event, TimeEvent::Late);  // a camera 50 ms behind: dropped
   EXPECT_EQ(t.resets(), 0);
   EXPECT_EQ(t.accept(10.0, 0).action, TimeAction::Reset);  // camera 0 went back: looped
@@ -136,10 +136,11 @@ TEST(Tracker, TwoCamerasInTheOverlapGiveOneTrack) {
     const double t = kT0 + k * kDt, y = -1.0 + 1.0 * k * kDt;
     for (int cam = 0; cam < 2; ++cam) {
       const double bias = cam == 0 ? -0.005 : 0.005;
-      tracker.update(frame(t, cam,
-                           {robot(Team::Blue, 4, 0.1 + bias, y, 1.0), robot(Team::Yellow, -1, -0.1 + bias, -y),
-                            robot(Team::Yellow, -1, 0.2 + bias, 0.5)},
-                           {ball(0.0 + bias, y + 0.3)}));
+      tracker.update(
+          frame(t, cam,
+                {robot(Team::Blue, 4, 0.1 + bias, y, 1.0), robot(Team::Yellow, -1, -0.1 + bias, -y),
+                 robot(Team::Yellow, -1, 0.2 + bias, 0.5)},
+                {ball(0.0 + bias, y + 0.3)}));
     }
   }
   const auto out = tracker.output();
@@ -151,7 +152,7 @@ TEST(Tracker, TwoCamerasInTheOverlapGiveOneTrack) {
   ASSERT_NE(blue, nullptr);
   EXPECT_NEAR(blue->x, 0.1, 0.002);  // the average of both cameras
   EXPECT_NEAR(blue->vy, 1.0, 0.05);
-  EXPECT_EQ(blue->camera_id, 1);     // the last measurement came from camera 1
+  EXPECT_EQ(blue->camera_id, 1);  // the last measurement came from camera 1
   EXPECT_TRUE(blue->visible);
 }
 
@@ -185,23 +186,26 @@ TEST(Tracker, LostTargetIsDroppedAfterTheConfiguredTime) {
   p.ball_lost_timeout = 0.2;
   Tracker tracker(p);
   for (int k = 0; k < 10; ++k) {
-    tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0), robot(Team::Blue, 1, 1, 0)},
-                         {ball(0.5, 0.5)}));
+    tracker.update(
+        frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0), robot(Team::Blue, 1, 1, 0)}, {ball(0.5, 0.5)}));
   }
   const double last = kT0 + 9 * kDt;
   // Blue 1 and the ball vanish; blue 0 stays.
   int k = 10;
-  for (; kT0 + k * kDt - last <= 0.19; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
+  for (; kT0 + k * kDt - last <= 0.19; ++k)
+    tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
   auto out = tracker.output();
   EXPECT_EQ(out.robots.size(), 2u);
   EXPECT_EQ(out.balls.size(), 1u);
   EXPECT_FALSE(find(out, Team::Blue, 1)->visible);
   EXPECT_LT(find(out, Team::Blue, 1)->confidence, 0.9 * 0.5);  // fading
-  for (; kT0 + k * kDt - last <= 0.29; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
+  for (; kT0 + k * kDt - last <= 0.29; ++k)
+    tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
   out = tracker.output();
   EXPECT_EQ(out.robots.size(), 2u);  // 0.29 s: still there (predicted)
   EXPECT_TRUE(out.balls.empty());    // the ball's 0.2 s are over
-  for (; kT0 + k * kDt - last <= 0.32; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
+  for (; kT0 + k * kDt - last <= 0.32; ++k)
+    tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 0, 0, 0)}));
   out = tracker.output();
   ASSERT_EQ(out.robots.size(), 1u);
   EXPECT_EQ(out.robots[0].id, 0);
@@ -219,7 +223,8 @@ TEST(Tracker, BallKickIsTrackedWithoutLosingTheTrack) {
   for (int k = 1; k <= 15; ++k) {
     const Eigen::Vector2d p = Eigen::Vector2d(1.0, 0.0) + v * k * kDt;
     // A stray orange blob far away competes as a second candidate.
-    const auto report = tracker.update(frame(kT0 + (59 + k) * kDt, 0, {}, {ball(p.x(), p.y()), ball(-3.0, 2.0, 0.9)}));
+    const auto report =
+        tracker.update(frame(kT0 + (59 + k) * kDt, 0, {}, {ball(p.x(), p.y()), ball(-3.0, 2.0, 0.9)}));
     kicks += report.ball_kicks;
     const auto out = tracker.output();
     const auto* b = out.primaryBall();
@@ -253,8 +258,9 @@ TEST(Tracker, TeamOnlyRobotsPassingCloseKeepTheirTracks) {
     const double t = k * kDt;
     // Two robots of one team pass each other 0.19 m apart at 2 m/s each.
     const double xa = -1.0 + 2.0 * t, xb = 1.0 - 2.0 * t;
-    tracker.update(frame(kT0 + t, 0, {robot(Team::Blue, -1, xb + noise(rng), 0.095 + noise(rng)),
-                                      robot(Team::Blue, -1, xa + noise(rng), -0.095 + noise(rng))}));
+    tracker.update(frame(kT0 + t, 0,
+                         {robot(Team::Blue, -1, xb + noise(rng), 0.095 + noise(rng)),
+                          robot(Team::Blue, -1, xa + noise(rng), -0.095 + noise(rng))}));
     const auto out = tracker.output();
     ASSERT_EQ(out.robots.size(), 2u) << "frame " << k;
     for (const auto& r : out.robots) {
@@ -275,8 +281,9 @@ TEST(Tracker, TeamOnlyRobotsPassingCloseKeepTheirTracks) {
 
 TEST(Tracker, BadDetectionsAreCountedNotTracked) {
   Tracker tracker;
-  auto f = frame(kT0, 0, {robot(Team::Blue, 0, NAN, 0), robot(Team::Blue, 1, 1, 1), robot(Team::Blue, 1, 1.02, 1)},
-                 {ball(INFINITY, 0)});
+  auto f =
+      frame(kT0, 0, {robot(Team::Blue, 0, NAN, 0), robot(Team::Blue, 1, 1, 1), robot(Team::Blue, 1, 1.02, 1)},
+            {ball(INFINITY, 0)});
   const auto report = tracker.update(f);
   EXPECT_EQ(report.invalid_detections, 2);
   EXPECT_EQ(report.duplicate_detections, 1);
@@ -313,7 +320,7 @@ TEST(GlobalSearchPolicy, FiresFirstPeriodicallyOnMissingTargetsNoTracksAndAfterR
   policy.observe(missed);
   EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::TargetMissing);
   ASSERT_EQ(policy.missing().size(), 0u);  // consumed by the decision
-  policy.observe(missed);  // missed by that whole-frame search: its window comes first
+  policy.observe(missed);                  // missed by that whole-frame search: its window comes first
   EXPECT_TRUE(policy.missing().empty());
   EXPECT_EQ(policy.decide(windowFor(7, true), 1), GlobalSearchReason::None);
   policy.observe(missed);  // and missed there too: the whole frame again

@@ -132,16 +132,17 @@ Figures simulate(bool team_only, int frames, const TrackerParams& params = {}) {
       }
     }
   }
-  std::printf("%s: %ld robot samples, %ld without a track, %ld identity switches; position RMSE "
-              "%.2f mm (measurements %.2f mm), heading RMSE %.3f°, velocity RMSE %.3f m/s, omega RMSE %.2f rad/s; ball "
-              "tracked %.2f %% of %ld frames, RMSE %.2f mm; stats: outliers %ld, reinit %ld, "
-              "kicks %ld, tracks created %ld\n",
-              team_only ? "team-only" : "identity", fig.robot_samples, fig.robot_missing,
-              fig.identity_switches, 1e3 * fig.rmse(), 1e3 * fig.measurementRmse(),
-              fig.headingRmse() * 180 / M_PI, fig.velocityRmse(), fig.omegaRmse(),
-              100.0 * fig.ball_tracked / fig.ball_samples, fig.ball_samples, 1e3 * fig.ballRmse(),
-              tracker.stats().robot_outliers, tracker.stats().robots_reinitialised,
-              tracker.stats().ball_kicks, tracker.stats().tracks_created);
+  std::printf(
+      "%s: %ld robot samples, %ld without a track, %ld identity switches; position RMSE "
+      "%.2f mm (measurements %.2f mm), heading RMSE %.3f°, velocity RMSE %.3f m/s, omega RMSE %.2f rad/s; "
+      "ball "
+      "tracked %.2f %% of %ld frames, RMSE %.2f mm; stats: outliers %ld, reinit %ld, "
+      "kicks %ld, tracks created %ld\n",
+      team_only ? "team-only" : "identity", fig.robot_samples, fig.robot_missing, fig.identity_switches,
+      1e3 * fig.rmse(), 1e3 * fig.measurementRmse(), fig.headingRmse() * 180 / M_PI, fig.velocityRmse(),
+      fig.omegaRmse(), 100.0 * fig.ball_tracked / fig.ball_samples, fig.ball_samples, 1e3 * fig.ballRmse(),
+      tracker.stats().robot_outliers, tracker.stats().robots_reinitialised, tracker.stats().ball_kicks,
+      tracker.stats().tracks_created);
   return fig;
 }
 

@@ -16,19 +16,19 @@
 namespace soccer_vision {
 
 struct CameraPoseSolverParams {
-  int max_iterations = 100;          // Levenberg-Marquardt iterations
-  double convergence = 1e-12;        // stop when the relative cost decrease is below this
-  double min_spread = 0.01;          // m: field points closer to a line than this are collinear
-  double min_pixel_spread = 2.0;     // px: the same for the pixels (camera in the points' plane)
+  int max_iterations = 100;       // Levenberg-Marquardt iterations
+  double convergence = 1e-12;     // stop when the relative cost decrease is below this
+  double min_spread = 0.01;       // m: field points closer to a line than this are collinear
+  double min_pixel_spread = 2.0;  // px: the same for the pixels (camera in the points' plane)
 };
 
 struct CameraPoseSolution {
   Eigen::Isometry3d field_T_camera = Eigen::Isometry3d::Identity();  // optical frame in `field`
-  std::vector<double> errors_px;     // reprojection error per correspondence (raw pixels)
-  double rms_px = 0;                 // root mean square of errors_px
+  std::vector<double> errors_px;  // reprojection error per correspondence (raw pixels)
+  double rms_px = 0;              // root mean square of errors_px
   double max_px = 0;
-  int iterations = 0;                // LM iterations of the winning candidate
-  CameraIntrinsics intrinsics;       // what it was solved with
+  int iterations = 0;           // LM iterations of the winning candidate
+  CameraIntrinsics intrinsics;  // what it was solved with
 
   CameraModel model() const { return CameraModel(intrinsics, field_T_camera); }
 };

@@ -9,15 +9,15 @@
 
 #include <opencv2/core.hpp>
 
-#include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
 
 namespace soccer_vision {
 
 struct CalibrationImage {
-  cv::Mat bgr;            // CV_8UC3
-  ColorSamples samples;   // polygons in this image's pixel coordinates
+  cv::Mat bgr;           // CV_8UC3
+  ColorSamples samples;  // polygons in this image's pixel coordinates
 };
 
 // How the table files the samples' V.

@@ -27,11 +27,11 @@ namespace soccer_vision {
 struct CameraPoseFile {
   std::optional<int> camera_id;
   std::string frame_id = "field";
-  std::string child_frame_id;         // empty when not given
+  std::string child_frame_id;  // empty when not given
   Eigen::Isometry3d field_T_camera = Eigen::Isometry3d::Identity();
   double rms_error_px = 0;
   int points = 0;
-  CameraIntrinsics intrinsics;        // width, height, fx, fy, cx, cy (distortion not stored)
+  CameraIntrinsics intrinsics;  // width, height, fx, fy, cx, cy (distortion not stored)
 };
 
 std::string toYaml(const CameraPoseFile& pose);

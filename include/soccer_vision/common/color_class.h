@@ -34,15 +34,11 @@ std::string_view colorClassName(ColorClass c);
 std::optional<ColorClass> parseColorClass(std::string_view name);
 
 // A marker colour is one a robot pattern or the ball uses (Blue..Orange).
-constexpr bool isMarkerColor(ColorClass c) {
-  return c >= ColorClass::Blue && c <= ColorClass::Orange;
-}
+constexpr bool isMarkerColor(ColorClass c) { return c >= ColorClass::Blue && c <= ColorClass::Orange; }
 
 enum class Team : std::uint8_t { Blue = 0, Yellow = 1 };
 std::string_view teamName(Team t);
 std::optional<Team> parseTeam(std::string_view name);
-constexpr ColorClass teamColor(Team t) {
-  return t == Team::Blue ? ColorClass::Blue : ColorClass::Yellow;
-}
+constexpr ColorClass teamColor(Team t) { return t == Team::Blue ? ColorClass::Blue : ColorClass::Yellow; }
 
 }  // namespace soccer_vision

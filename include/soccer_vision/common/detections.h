@@ -31,9 +31,9 @@ struct BallDetection {
 };
 
 struct CameraFrameDetections {
-  double stamp = 0;             // [s] capture stamp of the image
+  double stamp = 0;  // [s] capture stamp of the image
   int camera_id = 0;
-  bool global_search = true;    // segmentation looked at the whole frame
+  bool global_search = true;  // segmentation looked at the whole frame
   std::vector<RobotDetection> robots;
   std::vector<BallDetection> balls;  // candidates, best first
 };

@@ -18,15 +18,15 @@ struct CircleArc {
 };
 
 struct FieldGeometry {
-  double length = 9.0;          // m, playing area along x
-  double width = 6.0;           // m, playing area along y
-  double boundary = 0.3;        // m, carpet outside the lines
-  double line_width = 0.010;    // m
-  double centre_radius = 0.5;   // m, centre circle
-  double defense_depth = 1.0;   // m, defence area depth (along x)
-  double defense_width = 2.0;   // m, defence area width (along y)
-  double goal_width = 1.0;      // m, inner width of the goal mouth
-  double goal_depth = 0.18;     // m
+  double length = 9.0;         // m, playing area along x
+  double width = 6.0;          // m, playing area along y
+  double boundary = 0.3;       // m, carpet outside the lines
+  double line_width = 0.010;   // m
+  double centre_radius = 0.5;  // m, centre circle
+  double defense_depth = 1.0;  // m, defence area depth (along x)
+  double defense_width = 2.0;  // m, defence area width (along y)
+  double goal_width = 1.0;     // m, inner width of the goal mouth
+  double goal_depth = 0.18;    // m
 
   double halfLength() const { return length / 2; }
   double halfWidth() const { return width / 2; }

@@ -12,9 +12,9 @@ namespace soccer_vision {
 struct MarkerShape {
   enum class Kind { Disc, Rect };
   Kind kind = Kind::Disc;
-  double x = 0, y = 0;             // centre in the robot frame, m
-  double radius = 0;               // Disc, m
-  double size_x = 0, size_y = 0;   // Rect: full extent along robot x and y, m
+  double x = 0, y = 0;            // centre in the robot frame, m
+  double radius = 0;              // Disc, m
+  double size_x = 0, size_y = 0;  // Rect: full extent along robot x and y, m
 };
 
 struct ColoredMarker {

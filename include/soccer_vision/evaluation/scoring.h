@@ -38,9 +38,9 @@ struct Score {
   double robotPrecision() const;      // 1 when nothing was reported
   double ballDetectionRate() const;
   double ballPrecision() const;
-  double robotPositionRmse() const;   // [m]
-  double robotHeadingRmse() const;    // [rad]
-  double ballPositionRmse() const;    // [m]
+  double robotPositionRmse() const;  // [m]
+  double robotHeadingRmse() const;   // [rad]
+  double ballPositionRmse() const;   // [m]
   void add(const Score& other);
 };
 

@@ -18,13 +18,13 @@ namespace soccer_vision {
 
 struct BallDetectionParams {
   ColorClass color = ColorClass::Orange;
-  double radius = 0.0215;          // m; the centre is assumed at this height too
-  double area_ratio_min = 0.3;     // observed / expected pixel area (motion blur, partial occlusion)
+  double radius = 0.0215;       // m; the centre is assumed at this height too
+  double area_ratio_min = 0.3;  // observed / expected pixel area (motion blur, partial occlusion)
   double area_ratio_max = 3.0;
-  double area_sigma = 0.5;         // scoring scale of ln(observed / expected area)
-  double field_margin = 0.10;      // m beyond the carpet (playing area + boundary)
-  double merge_distance = 0.06;    // m: orange fragments closer than this are one ball
-  int max_candidates = 4;          // best first; 0 = all
+  double area_sigma = 0.5;       // scoring scale of ln(observed / expected area)
+  double field_margin = 0.10;    // m beyond the carpet (playing area + boundary)
+  double merge_distance = 0.06;  // m: orange fragments closer than this are one ball
+  int max_candidates = 4;        // best first; 0 = all
   double min_confidence = 0.02;
 };
 

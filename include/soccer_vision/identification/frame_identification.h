@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "soccer_vision/identification/ball_detection.h"
 #include "soccer_vision/common/detections.h"
+#include "soccer_vision/identification/ball_detection.h"
 #include "soccer_vision/identification/robot_identification.h"
 
 namespace soccer_vision {

@@ -16,15 +16,15 @@ namespace soccer_vision {
 // Outline (field frame, counter-clockwise) of a pattern shape on a robot at (x, y, theta),
 // on the plane z. Discs get `disc_points` vertices, rectangles their 4 corners (each side
 // subdivided into `disc_points / 4` for the lens curvature).
-std::vector<Eigen::Vector3d> markerOutline(const MarkerShape& shape, double x, double y, double theta, double z,
-                                           int disc_points = 16);
+std::vector<Eigen::Vector3d> markerOutline(const MarkerShape& shape, double x, double y, double theta,
+                                           double z, int disc_points = 16);
 
 // Pixel area of a closed field-frame polygon in the raw image; 0 if a vertex is behind the camera.
 double projectedArea(const CameraModel& camera, const std::vector<Eigen::Vector3d>& outline);
 
 // Expected pixel area of a marker of a robot at (x, y, theta), marker plane z.
-double expectedMarkerArea(const CameraModel& camera, const MarkerShape& shape, double x, double y, double theta,
-                          double z);
+double expectedMarkerArea(const CameraModel& camera, const MarkerShape& shape, double x, double y,
+                          double theta, double z);
 
 // Expected pixel area of a sphere (the ball) of `radius` centred at `centre`: its
 // silhouette is the circle of tangent points seen from the camera centre.

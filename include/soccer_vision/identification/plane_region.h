@@ -15,9 +15,9 @@
 namespace soccer_vision {
 
 struct PlaneRegion {
-  Eigen::Vector2d centre{0, 0};                  // m, on the plane
+  Eigen::Vector2d centre{0, 0};                          // m, on the plane
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  // m², central second moments
-  double area = 0;                               // m², pixel area x |det J|
+  double area = 0;                                       // m², pixel area x |det J|
   // Minor axis of the moment ellipse (rad, modulo pi) and sqrt(major / minor eigenvalue):
   // 1 for a disc, size_y / size_x for a rectangle.
   double minor_axis_angle = 0;

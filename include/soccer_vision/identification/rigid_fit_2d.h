@@ -25,7 +25,8 @@ struct HeadingPrior {
 // coincide) the heading is the prior's (0 without one). Translation is then the weighted
 // least-squares one for that heading.
 Pose2d fitRigid2d(const std::vector<Eigen::Vector2d>& model, const std::vector<Eigen::Vector2d>& observed,
-                  const std::vector<double>& weights, const std::optional<HeadingPrior>& prior = std::nullopt);
+                  const std::vector<double>& weights,
+                  const std::optional<HeadingPrior>& prior = std::nullopt);
 
 // a - b wrapped to (-pi, pi].
 double angleDifference(double a, double b);

@@ -28,23 +28,23 @@
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/detections.h"
-#include "soccer_vision/segmentation/region_extractor.h"
 #include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/segmentation/region_extractor.h"
 
 namespace soccer_vision {
 
 struct RobotIdentificationParams {
-  double marker_gate = 0.020;        // m: max distance of a marker from where the fitted pose puts it
-  double position_sigma = 0.004;     // m: marker centroid scatter expected (scoring scale)
-  double axis_gate_deg = 20.0;       // deg: max team-tag minor axis vs fitted heading (mod 180°)
-  double axis_sigma_deg = 4.0;       // deg: scoring scale of that difference
-  double axis_weight = 0.25;         // share of the team-tag axis in the heading (0 = markers only)
+  double marker_gate = 0.020;     // m: max distance of a marker from where the fitted pose puts it
+  double position_sigma = 0.004;  // m: marker centroid scatter expected (scoring scale)
+  double axis_gate_deg = 20.0;    // deg: max team-tag minor axis vs fitted heading (mod 180°)
+  double axis_sigma_deg = 4.0;    // deg: scoring scale of that difference
+  double axis_weight = 0.25;      // share of the team-tag axis in the heading (0 = markers only)
   // The share for regions of a Bayer mosaic's 2x2 quads: the small id markers' centroids
   // there carry a pose-dependent bias (their colour comes from four sensor sites; 1.8° of
   // heading RMS on still robots of flicker_noise, 2.0° on clean Bayer, 0.1° without Bayer),
   // the large team tag's axis much less.
   double axis_weight_mosaic = 0.6;
-  double min_elongation = 1.6;       // team region sqrt(eigenvalue ratio) needed to use its axis
+  double min_elongation = 1.6;  // team region sqrt(eigenvalue ratio) needed to use its axis
   // Observed / expected pixel area within [1/g, g]. Blurred and noisy markers are small: a
   // 40 mm disc moving 20 mm per exposure keeps only its fully covered core in the colour
   // class (0.17-0.4 of the expected area; the blend with the black top is darker than any
@@ -52,11 +52,11 @@ struct RobotIdentificationParams {
   // (~0.3). 2.5 rejected them: 83 % of the robots identified per flicker_noise frame and
   // 98.6 % of fast_motion's; 3.5: 91 % and 99.1 %, no identity error on any preset.
   double area_ratio_gate = 3.5;
-  double area_sigma = 0.35;          // scoring scale of ln(observed / expected area)
-  int max_missing_markers = 1;       // id markers a robot may lack and still be reported
+  double area_sigma = 0.35;            // scoring scale of ln(observed / expected area)
+  int max_missing_markers = 1;         // id markers a robot may lack and still be reported
   double missing_marker_factor = 0.5;  // confidence factor per missing id marker
-  double min_confidence = 0.05;      // hypotheses below are dropped
-  bool report_unidentified = false;  // report team markers whose id is unknown (id -1)
+  double min_confidence = 0.05;        // hypotheses below are dropped
+  bool report_unidentified = false;    // report team markers whose id is unknown (id -1)
 };
 
 struct RobotIdentificationResult {

@@ -20,18 +20,18 @@
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
-#include "soccer_vision/identification/frame_identification.h"
-#include "soccer_vision/tracking/frame_step.h"
 #include "soccer_vision/common/robot_pattern.h"
-#include "soccer_vision/tracking/search_planner.h"
+#include "soccer_vision/identification/frame_identification.h"
 #include "soccer_vision/segmentation/segmenter.h"
+#include "soccer_vision/tracking/frame_step.h"
+#include "soccer_vision/tracking/search_planner.h"
 #include "soccer_vision/tracking/tracker.h"
 
 namespace soccer_vision {
 
 struct VisionPipelineParams {
-  int frame_step = 1;           // process every n-th frame of each camera (>= 1)
-  SearchPlannerParams search;   // windows (search.windows.side_px = R), entry bands, policy
+  int frame_step = 1;          // process every n-th frame of each camera (>= 1)
+  SearchPlannerParams search;  // windows (search.windows.side_px = R), entry bands, policy
   SegmentationParams segmentation;
   IdentificationParams identification;
   TrackerParams tracker;
@@ -40,8 +40,8 @@ struct VisionPipelineParams {
 void validate(const VisionPipelineParams& p);  // throws std::invalid_argument
 
 struct PipelineCamera {
-  int id = 0;                                           // camera_id of its detections
-  CameraModel model;                                    // intrinsics + pose in `field`
+  int id = 0;                                             // camera_id of its detections
+  CameraModel model;                                      // intrinsics + pose in `field`
   std::shared_ptr<const SegmentationModel> segmentation;  // colour table + illumination reference
   PixelLayout layout = PixelLayout::Bgr;
 };
@@ -57,19 +57,19 @@ struct PipelineTimings {
 struct PipelineFrame {
   int camera_id = 0;
   double stamp = 0;
-  bool processed = false;       // false: skipped by frame_step (nothing else is set)
-  bool global_search = true;    // this frame was searched whole
+  bool processed = false;     // false: skipped by frame_step (nothing else is set)
+  bool global_search = true;  // this frame was searched whole
   // Why it was searched whole (None: in windows; Periodic for every frame when search
   // windows are off; AfterReset when the windows were stale: a gap in the stamps).
   GlobalSearchReason search_reason = GlobalSearchReason::First;
-  std::size_t windows = 0;      // rectangles searched (windows + entry bands)
+  std::size_t windows = 0;  // rectangles searched (windows + entry bands)
   PipelineTimings times;
   CameraFrameDetections detections;
   // The tracks predicted to this stamp before this frame's measurements (the Kalman
   // prediction the windows were made from; paper Fig. 6), and the output after them.
   TrackerOutput prediction;
   TrackerOutput output;
-  bool tracker_reset = false;   // the stamps jumped: all tracks were dropped first
+  bool tracker_reset = false;  // the stamps jumped: all tracks were dropped first
 };
 
 class VisionPipeline {

@@ -23,17 +23,17 @@
 namespace soccer_vision {
 
 struct BagCamera {
-  int id = 0;                       // n of a namespace ".../camera_<n>", else its rank
-  std::string ns;                   // e.g. "/camera_0"
-  std::size_t images = 0;           // image_raw messages
+  int id = 0;              // n of a namespace ".../camera_<n>", else its rank
+  std::string ns;          // e.g. "/camera_0"
+  std::size_t images = 0;  // image_raw messages
   bool has_info = false;
-  sensor_msgs::CameraInfo info;     // the first camera_info
+  sensor_msgs::CameraInfo info;  // the first camera_info
 };
 
 // Why an image was not handed on.
 struct BagImageProblems {
   std::size_t unsupported_encoding = 0, truncated = 0;
-  std::size_t other_format = 0;  // counted by the caller: not the size / layout it expects
+  std::size_t other_format = 0;                  // counted by the caller: not the size / layout it expects
   std::map<std::string, std::size_t> encodings;  // unsupported encodings seen
 };
 
@@ -47,8 +47,8 @@ class BagFrames {
   const std::vector<BagCamera>& cameras() const { return cameras_; }
   const BagCamera* camera(int id) const;
 
-  using ImageVisitor = std::function<void(const BagCamera& camera, const sensor_msgs::Image& msg, const cv::Mat& image,
-                                          PixelLayout layout)>;
+  using ImageVisitor = std::function<void(const BagCamera& camera, const sensor_msgs::Image& msg,
+                                          const cv::Mat& image, PixelLayout layout)>;
   // Every image of the given cameras (all when empty) in recording order. Images whose
   // encoding the pipeline cannot read, or whose data is shorter than step x height, are
   // skipped and counted. Returns the number of images visited.

@@ -28,7 +28,7 @@ cv::Rect fromRegionOfInterest(const sensor_msgs::RegionOfInterest& roi);
 // result: every region as a Blob in result order, the windows as used (empty on a global
 // search), cap_hits per ColorClass value (kNumColorClasses entries), the processing time
 // (result.timings.total_ms) in seconds and whether the image was a Bayer mosaic.
-void toBlobArray(const SegmentationResult& result, const std_msgs::Header& header,
-                 int camera_id, int image_width, int image_height, bool mosaic, BlobArray& out);
+void toBlobArray(const SegmentationResult& result, const std_msgs::Header& header, int camera_id,
+                 int image_width, int image_height, bool mosaic, BlobArray& out);
 
 }  // namespace soccer_vision

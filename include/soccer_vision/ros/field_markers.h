@@ -34,7 +34,8 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
 
 // Closed outlines (field coordinates, e.g. search windows projected onto the marker
 // plane), namespace "search_windows", one LINE_STRIP each.
-void appendOutlineMarkers(const std::vector<std::vector<Eigen::Vector3d>>& outlines, const std_msgs::Header& header,
-                          double lifetime, visualization_msgs::MarkerArray& out);
+void appendOutlineMarkers(const std::vector<std::vector<Eigen::Vector3d>>& outlines,
+                          const std_msgs::Header& header, double lifetime,
+                          visualization_msgs::MarkerArray& out);
 
 }  // namespace soccer_vision

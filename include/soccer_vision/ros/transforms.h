@@ -19,8 +19,9 @@ geometry_msgs::TransformStamped toTransformStamped(const Eigen::Isometry3d& pare
                                                    const ros::Time& stamp);
 Eigen::Isometry3d fromTransform(const geometry_msgs::Transform& t);
 // A planar pose (x, y, heading) at height z.
-geometry_msgs::TransformStamped planarTransform(double x, double y, double z, double yaw, const std::string& parent,
-                                                const std::string& child, const ros::Time& stamp);
+geometry_msgs::TransformStamped planarTransform(double x, double y, double z, double yaw,
+                                                const std::string& parent, const std::string& child,
+                                                const ros::Time& stamp);
 
 // One StaticTransformBroadcaster per process, shared by every nodelet of a manager: it
 // accumulates all transforms sent through it, so each (latched) send carries them all

@@ -36,7 +36,9 @@ class BitMask {
   int height() const { return height_; }
   int wordsPerRow() const { return words_per_row_; }
   std::uint64_t* row(int y) { return words_.data() + static_cast<std::size_t>(y) * words_per_row_; }
-  const std::uint64_t* row(int y) const { return words_.data() + static_cast<std::size_t>(y) * words_per_row_; }
+  const std::uint64_t* row(int y) const {
+    return words_.data() + static_cast<std::size_t>(y) * words_per_row_;
+  }
   bool at(int x, int y) const { return (row(y)[x >> 6] >> (x & 63)) & 1; }
   // Mask of the valid bits of word `w` of a row.
   std::uint64_t validBits(int w) const;

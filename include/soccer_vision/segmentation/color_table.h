@@ -44,7 +44,8 @@ using ClassSamplePixels = std::map<ColorClass, std::vector<SamplePixel>>;
 // The pixels of an image of `image_size` whose centre lies inside one of a class's
 // polygons (pixel (u, v) has its centre at (u, v)); a pixel inside several polygons of the
 // same class is taken once.
-std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size, const ColorSamples& samples);
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
+                                                                  const ColorSamples& samples);
 // Their colours in a CV_8UC3 BGR image. Throws std::invalid_argument for another type.
 ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples);
 
@@ -73,7 +74,8 @@ struct ColorTableParams {
   // paper's body). One frame shows each role colour on about two markers, so the V range
   // a cell saw is narrower than what the same colour shows elsewhere on the field after
   // illumination normalisation (estimation error of the block's light, sensor noise).
-  int v_margin = 8;  // by measurement: 4 leaves yellow/green misses on uneven_drift, 16 adds background false positives under noise
+  int v_margin = 8;  // by measurement: 4 leaves yellow/green misses on uneven_drift, 16 adds background false
+                     // positives under noise
   // Per-class thresholds that replace the two above, e.g. no hue test for greys.
   std::map<ColorClass, ClassThresholds> overrides = {
       {ColorClass::Line, {20.0, 360.0}},      // white: hue is noise
@@ -117,7 +119,8 @@ class ColorTable {
   static ColorTable build(const ClassPixels& samples, const ColorTableParams& params = {});
   // The same from samples with their V given: H and S come from the pixel, V from
   // SamplePixel::v, and the L*a*b* validity test sees the pixel scaled to that V.
-  static ColorTable buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params = {});
+  static ColorTable buildFromSamplePixels(const ClassSamplePixels& samples,
+                                          const ColorTableParams& params = {});
 
   // Unit gain of adjustedV: gains are fixed point with 8 fractional bits.
   static constexpr int kUnitGain = 256;
@@ -137,9 +140,7 @@ class ColorTable {
     return classifyHsv(hsv.h, hsv.s, adjustedV(static_cast<int>(hsv.v), v_offset, v_gain));
   }
   // h in degrees (any value: wrapped into [0, 360)), s clamped to [0, 1], v to [0, 255].
-  ColorClass classifyHsv(double h, double s, double v) const {
-    return cell(hBin(h), sBin(s), vBin(v));
-  }
+  ColorClass classifyHsv(double h, double s, double v) const { return cell(hBin(h), sBin(s), vBin(v)); }
 
   int hBin(double h) const;
   int sBin(double s) const;

@@ -49,10 +49,11 @@ cv::Mat1b blocksMeeting(const cv::Mat& image, PixelLayout layout, const std::vec
 // smooth over a few blocks. `expected`: CV_32FC1 of the image's block grid, positive.
 // `selected` as for blockMeanV: blocks left out get the median over all read blocks.
 // Throws std::invalid_argument like blockMeanV, or for `expected` of another size or type.
-constexpr double kLevelBandLow = 0.7, kLevelBandHigh = 1.4, kMinLevelFraction = 0.25, kCleanLevelFraction = 0.75;
+constexpr double kLevelBandLow = 0.7, kLevelBandHigh = 1.4, kMinLevelFraction = 0.25,
+                 kCleanLevelFraction = 0.75;
 constexpr int kLevelNeighbourhood = 1;
-cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected, int sample_step = 1,
-                         const cv::Mat1b& selected = cv::Mat1b());
+cv::Mat blockLightLevels(const cv::Mat& image, PixelLayout layout, const cv::Mat& expected,
+                         int sample_step = 1, const cv::Mat1b& selected = cv::Mat1b());
 // Expected levels for an image without prior knowledge (calibration): per block the
 // median over its 5x5 neighbourhood of the blocks' median V, which robots (about one
 // block in size) and lines cannot take over.
@@ -101,9 +102,10 @@ class IlluminationAdaptation {
                        const std::vector<cv::Rect>* windows = nullptr) const;
 
  private:
-  BlockOffsets paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step, int max_offset,
-                            const cv::Mat1b& selected) const;
-  cv::Mat currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step, const cv::Mat1b& selected) const;
+  BlockOffsets paperOffsets(const cv::Mat& image, PixelLayout layout, double k, int sample_step,
+                            int max_offset, const cv::Mat1b& selected) const;
+  cv::Mat currentLevels(const cv::Mat& image, PixelLayout layout, int sample_step,
+                        const cv::Mat1b& selected) const;
 
   cv::Mat reference_;
   cv::Mat levels_;

@@ -55,15 +55,20 @@ struct LabelRow {
 inline LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
   if (!isBayer(layout)) {
     const std::uint8_t* p = image.ptr<std::uint8_t>(y);
-    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3} : LabelRow{p + 2, p + 1, p + 1, p, 3};
+    return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3}
+                                      : LabelRow{p + 2, p + 1, p + 1, p, 3};
   }
   const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
   const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
   switch (layout) {
-    case PixelLayout::BayerRggb: return {bottom + 1, top + 1, bottom, top, 2};
-    case PixelLayout::BayerBggr: return {top, top + 1, bottom, bottom + 1, 2};
-    case PixelLayout::BayerGbrg: return {top + 1, top, bottom + 1, bottom, 2};
-    default: return {bottom, top, bottom + 1, top + 1, 2};  // BayerGrbg
+    case PixelLayout::BayerRggb:
+      return {bottom + 1, top + 1, bottom, top, 2};
+    case PixelLayout::BayerBggr:
+      return {top, top + 1, bottom, bottom + 1, 2};
+    case PixelLayout::BayerGbrg:
+      return {top + 1, top, bottom + 1, bottom, 2};
+    default:
+      return {bottom, top, bottom + 1, top + 1, 2};  // BayerGrbg
   }
 }
 // Throws std::invalid_argument unless the image fits the layout (see FrameClassifier).
@@ -139,7 +144,8 @@ class FrameClassifier {
   // The same for the label pixels x_begin, x_begin + step, ... < x_end of row y (e.g. a
   // checkerboard's points). Throws std::invalid_argument for step < 1 or points outside
   // the label image.
-  void scanPoints(int y, int x_begin, int x_end, int step, ClassMask classes, std::vector<cv::Point>& hits) const;
+  void scanPoints(int y, int x_begin, int x_end, int step, ClassMask classes,
+                  std::vector<cv::Point>& hits) const;
   // Colour of a label pixel as classified (BGR; a Bayer quad's R, mean G, B), for
   // sub-pixel weighting of region edges.
   cv::Vec3b colorAt(int x, int y) const;
@@ -153,7 +159,8 @@ class FrameClassifier {
 
  private:
   int sharpenedV(int x, int y) const;
-  void scanRowPoints(int y, int x0, int x1, int step, ClassMask classes, std::vector<cv::Point>& hits) const;  // unchecked
+  void scanRowPoints(int y, int x0, int x1, int step, ClassMask classes,
+                     std::vector<cv::Point>& hits) const;  // unchecked
   void classifySharpened(const cv::Rect& rect, cv::Mat& out, ClassMask keep) const;
   int adjustedVAt(int x, int y, int v) const;
   void checkRect(const cv::Rect& rect) const;
@@ -162,9 +169,9 @@ class FrameClassifier {
   cv::Mat image_;
   PixelLayout layout_;
   cv::Size label_size_;
-  cv::Mat offsets_;   // CV_16SC1 per block (shares the caller's data); zeros when none given
-  cv::Mat gains_;     // CV_16UC1 per block (shares the caller's data); unit when none given
-  int block_shift_;   // log2 of the block side in label pixels: 32 image pixels
+  cv::Mat offsets_;  // CV_16SC1 per block (shares the caller's data); zeros when none given
+  cv::Mat gains_;    // CV_16UC1 per block (shares the caller's data); unit when none given
+  int block_shift_;  // log2 of the block side in label pixels: 32 image pixels
   std::vector<std::int16_t> sharpen_terms_;  // lround(sharpen * L) for L = -1020 .. 1020; empty: off
 };
 

@@ -30,19 +30,19 @@ namespace soccer_vision {
 
 struct Region {
   ColorClass color = ColorClass::None;
-  std::uint32_t area = 0;       // pixels of the (opened, closed) binary region
-  double cx = 0, cy = 0;        // sub-pixel centroid (label coordinates; see moments below)
+  std::uint32_t area = 0;               // pixels of the (opened, closed) binary region
+  double cx = 0, cy = 0;                // sub-pixel centroid (label coordinates; see moments below)
   double mu20 = 0, mu11 = 0, mu02 = 0;  // central second moments / weight, px²
-  double orientation = 0;       // major axis angle, 0.5 * atan2(2 mu11, mu20 - mu02), rad
-  cv::Rect bbox;                // of the binary region
+  double orientation = 0;               // major axis angle, 0.5 * atan2(2 mu11, mu20 - mu02), rad
+  cv::Rect bbox;                        // of the binary region
 };
 
 struct RegionParams {
-  int morph_kernel = 3;              // open + close with a k x k square; 0 = off
-  int min_area = 5;                  // px, smaller regions are dropped
-  int max_area = 20000;              // px, larger regions are dropped
-  int max_regions_per_class = 64;    // the cap: more are dropped and counted in cap_hits
-  int tile_size = 16;                // label px of the classification tiles (16 beat 8 and 32 in the benchmark)
+  int morph_kernel = 3;            // open + close with a k x k square; 0 = off
+  int min_area = 5;                // px, smaller regions are dropped
+  int max_area = 20000;            // px, larger regions are dropped
+  int max_regions_per_class = 64;  // the cap: more are dropped and counted in cap_hits
+  int tile_size = 16;              // label px of the classification tiles (16 beat 8 and 32 in the benchmark)
   // With morphology off (morph_kernel <= 1): only regions holding two 4-adjacent pixels
   // of their class (a domino) are kept; single pixels and diagonal chains of them are
   // dropped. Every domino covers exactly one point of the checkerboard grid (x + y even),
@@ -59,8 +59,8 @@ struct RegionParams {
 
 struct RegionStatistics {
   std::array<std::uint32_t, kNumColorClasses> cap_hits{};  // regions dropped by the cap
-  std::uint32_t grid_points = 0;       // pixels classified by the grid scan
-  std::uint32_t classified_pixels = 0; // pixels classified in tiles
+  std::uint32_t grid_points = 0;                           // pixels classified by the grid scan
+  std::uint32_t classified_pixels = 0;                     // pixels classified in tiles
   double classify_ms = 0, morphology_ms = 0, regions_ms = 0;
 };
 

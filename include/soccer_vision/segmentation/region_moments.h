@@ -29,8 +29,8 @@ struct CoverageScratch {
   };
   std::vector<Segment> segments;
   std::vector<std::int32_t> colors;  // columns: B, G, R of every sample
-  std::vector<double> ring_colors;  // columns: B, G, R of the ring's samples
-  std::vector<double> alphas;  // coverage per sample
+  std::vector<double> ring_colors;   // columns: B, G, R of the ring's samples
+  std::vector<double> alphas;        // coverage per sample
 };
 
 // Coverage-weighted moments of the region made of the runs [begin, end) (coordinates
@@ -42,7 +42,7 @@ struct CoverageScratch {
 // then once more weighted by 1 - α, so that the partly covered ring pixels do not pull it
 // towards c. Returns false (r's moments untouched) when the colours give no usable
 // contrast: binary moments then.
-bool coverageMoments(const FrameClassifier& frame, const PixelRun* begin, const PixelRun* end, cv::Point origin,
-                     const cv::Rect& image, CoverageScratch& scratch, Region& r);
+bool coverageMoments(const FrameClassifier& frame, const PixelRun* begin, const PixelRun* end,
+                     cv::Point origin, const cv::Rect& image, CoverageScratch& scratch, Region& r);
 
 }  // namespace soccer_vision

@@ -43,9 +43,9 @@ class RunLengthComponents {
  private:
   int findRoot(int run);
 
-  std::vector<PixelRun> runs_;               // raster order
-  std::vector<int> row_begin_;               // first run of each row, plus the end
-  std::vector<int> parent_;                  // union-find over runs
+  std::vector<PixelRun> runs_;  // raster order
+  std::vector<int> row_begin_;  // first run of each row, plus the end
+  std::vector<int> parent_;     // union-find over runs
   std::vector<ComponentStats> components_;
   std::vector<PixelRun> runs_by_component_;  // grouped by component, raster order within
   std::vector<int> component_begin_;         // into runs_by_component_, plus the end

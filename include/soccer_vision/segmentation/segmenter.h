@@ -22,9 +22,10 @@ struct SegmentationParams {
   // it (normalised tables: the light as calibrated); otherwise the paper's k for tables of
   // V as captured, while normalised tables measure every frame's block light levels.
   double illumination_k = 0.3;
-  int illumination_sample_step = 8;   // read every n-th row/column of a block for its mean V / level (16 of 1024: the mean of a noisy carpet to 0.4 levels)
-  int max_illumination_offset = 64;   // |k·Δv| clamp, 8-bit V units (paper's mode)
-  double sharpen = 0.0;               // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
+  int illumination_sample_step = 8;  // read every n-th row/column of a block for its mean V / level (16 of
+                                     // 1024: the mean of a noisy carpet to 0.4 levels)
+  int max_illumination_offset = 64;  // |k·Δv| clamp, 8-bit V units (paper's mode)
+  double sharpen = 0.0;              // Laplacian sharpening of V (paper §IV): v -= sharpen * ∇²v; 0 = off
   // In label pixels of a 1280-px-wide label image (kRegionParamsWidth) of a camera over
   // half the field. Narrower label images (lower resolutions, Bayer mosaics: one label per
   // 2x2 quad) use labelParams(regions, width), so that the same settings keep markers of
@@ -51,13 +52,13 @@ struct SegmentationTimings {
 };
 
 struct SegmentationResult {
-  std::vector<Region> regions;   // image pixel coordinates (Bayer: quad centres mapped back)
+  std::vector<Region> regions;  // image pixel coordinates (Bayer: quad centres mapped back)
   bool global_search = true;
-  std::vector<cv::Rect> windows; // image pixels, as used (clipped to the image)
+  std::vector<cv::Rect> windows;  // image pixels, as used (clipped to the image)
   std::array<std::uint32_t, kNumColorClasses> cap_hits{};
   bool illumination_size_mismatch = false;  // reference made for another image size
-  std::uint32_t grid_points = 0;        // label pixels looked up by the grid scan
-  std::uint32_t classified_pixels = 0;  // label pixels classified around the hits
+  std::uint32_t grid_points = 0;            // label pixels looked up by the grid scan
+  std::uint32_t classified_pixels = 0;      // label pixels classified around the hits
   SegmentationTimings timings;
 };
 

@@ -25,8 +25,7 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
                                 const SampleOptions& options = {});
 
 // Landmarks of the field (z = 0) that project inside the image, with exact pixels.
-std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera,
-                                                      const FieldGeometry& field,
+std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera, const FieldGeometry& field,
                                                       double image_margin = 5.0);
 
 }  // namespace soccer_vision

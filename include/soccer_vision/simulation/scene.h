@@ -11,17 +11,17 @@ namespace soccer_vision {
 struct RobotState {
   Team team = Team::Blue;
   int id = 0;
-  double x = 0, y = 0, theta = 0;     // m, m, rad (CCW from +x)
-  double vx = 0, vy = 0, omega = 0;   // m/s, m/s, rad/s
+  double x = 0, y = 0, theta = 0;    // m, m, rad (CCW from +x)
+  double vx = 0, vy = 0, omega = 0;  // m/s, m/s, rad/s
 };
 
 struct BallState {
-  double x = 0, y = 0, z = 0.0215;    // m; z of the centre
-  double vx = 0, vy = 0, vz = 0;      // m/s
+  double x = 0, y = 0, z = 0.0215;  // m; z of the centre
+  double vx = 0, vy = 0, vz = 0;    // m/s
 };
 
 struct SceneState {
-  double time = 0;                    // s since the start of the scenario
+  double time = 0;  // s since the start of the scenario
   std::vector<RobotState> robots;
   std::vector<BallState> balls;
 };

@@ -27,6 +27,7 @@ struct SyntheticCalibration {
 // motion blur shows them averaged over the exposure, centred at its middle (the capture
 // stamp is its start), so the polygons come from the scene at shownTimeAfterStamp (field_renderer.h).
 // Throws like the renderer and calibrateColorTable.
-ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index, const SyntheticCalibration& how = {});
+ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index,
+                                    const SyntheticCalibration& how = {});
 
 }  // namespace soccer_vision

@@ -62,8 +62,7 @@ class AravisSource : public FrameSource {
   bool isOpen() const override;
   FrameFormat format() const override;
   double fps() const override;
-  GrabStatus grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                  std::string& error) override;
+  GrabStatus grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) override;
   void interrupt() override;
   bool setFps(double fps, std::string& error) override;
   std::vector<std::string> controls() const override;

@@ -44,6 +44,7 @@ double systemClockNow();  // Unix seconds
 
 // FrameSource::setFps of the file sources: refused (false, `error`) when the source runs
 // as fast as possible (realtime false) or fps is outside (0, 1000]; else pacer.setFps.
-bool setPacedFps(FramePacer& pacer, bool realtime, const std::string& source_name, double fps, std::string& error);
+bool setPacedFps(FramePacer& pacer, bool realtime, const std::string& source_name, double fps,
+                 std::string& error);
 
 }  // namespace soccer_vision

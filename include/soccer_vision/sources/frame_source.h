@@ -34,9 +34,9 @@ namespace soccer_vision {
 struct FrameFormat {
   int width = 0;
   int height = 0;
-  std::string encoding;    // ROS sensor_msgs/image_encodings name: "bgr8", "bayer_rggb8", ...
-  int cv_type = -1;        // OpenCV type of one pixel row element, e.g. CV_8UC3
-  std::size_t step = 0;    // bytes per row (>= width * bytes per pixel)
+  std::string encoding;  // ROS sensor_msgs/image_encodings name: "bgr8", "bayer_rggb8", ...
+  int cv_type = -1;      // OpenCV type of one pixel row element, e.g. CV_8UC3
+  std::size_t step = 0;  // bytes per row (>= width * bytes per pixel)
 
   std::size_t bytes() const { return step * static_cast<std::size_t>(height); }
   bool valid() const { return width > 0 && height > 0 && cv_type >= 0 && step > 0; }
@@ -44,9 +44,9 @@ struct FrameFormat {
 
 // Everything needed to open a back-end. Fields a back-end does not use are ignored.
 struct FrameSourceOptions {
-  int camera_index = 0;    // which camera (synthetic: 0 or 1, CameraModel::defaultCamera)
-  double fps = 0;          // requested frame rate [Hz]; 0 = the back-end's native rate
-  int width = 0;           // requested resolution [px]; 0 = the back-end's native size
+  int camera_index = 0;  // which camera (synthetic: 0 or 1, CameraModel::defaultCamera)
+  double fps = 0;        // requested frame rate [Hz]; 0 = the back-end's native rate
+  int width = 0;         // requested resolution [px]; 0 = the back-end's native size
   int height = 0;
   // Synthetic: scenario preset YAML path; empty = the embedded default scenario.
   std::string scenario;
@@ -68,9 +68,9 @@ struct OpenResult {
 
 // Metadata of one grabbed frame.
 struct FrameInfo {
-  double stamp = 0;               // capture time (start of exposure), Unix seconds
-  std::uint64_t sequence = 0;     // frame counter of the back-end; gaps = dropped frames
-  std::string encoding;           // encoding of this frame (equals format().encoding)
+  double stamp = 0;                        // capture time (start of exposure), Unix seconds
+  std::uint64_t sequence = 0;              // frame counter of the back-end; gaps = dropped frames
+  std::string encoding;                    // encoding of this frame (equals format().encoding)
   std::optional<SceneState> ground_truth;  // true scene at `stamp` (synthetic sources)
   // Per ground-truth robot / ball (same order): fully inside this frame (all markers /
   // the whole ball), as FieldRenderer::robotVisible / ballVisible.
@@ -109,8 +109,7 @@ class FrameSource {
   // Waits for the next frame (at most `timeout_s`), writes it into `image` and fills
   // `info`. `image` must wrap a caller-owned buffer of format(): the source writes into
   // that memory and never reallocates it. Returns why it did not deliver a frame otherwise.
-  virtual GrabStatus grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                          std::string& error) = 0;
+  virtual GrabStatus grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) = 0;
 
   // Makes a blocked or the next grab() return Interrupted promptly (shutdown).
   virtual void interrupt() = 0;

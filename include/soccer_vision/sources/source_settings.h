@@ -10,8 +10,7 @@ namespace soccer_vision {
 
 class SettingsReader {
  public:
-  explicit SettingsReader(const std::map<std::string, std::string>& settings)
-      : settings_(settings) {}
+  explicit SettingsReader(const std::map<std::string, std::string>& settings) : settings_(settings) {}
 
   bool has(const std::string& key) const;
   std::string text(const std::string& key, const std::string& fallback = "") const;

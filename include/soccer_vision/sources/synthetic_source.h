@@ -20,9 +20,9 @@
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
-#include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/simulation/scenario.h"
+#include "soccer_vision/sources/frame_source.h"
 
 namespace soccer_vision {
 
@@ -43,8 +43,7 @@ class SyntheticSource : public FrameSource {
   bool isOpen() const override;
   FrameFormat format() const override;
   double fps() const override;
-  GrabStatus grab(cv::Mat& image, FrameInfo& info, double timeout_s,
-                  std::string& error) override;
+  GrabStatus grab(cv::Mat& image, FrameInfo& info, double timeout_s, std::string& error) override;
   void interrupt() override;
   bool setFps(double fps, std::string& error) override;
 

@@ -52,15 +52,14 @@ std::string v4l2Encoding(std::uint32_t fourcc);
 // else Bayer > RGB3/BGR3 > YUYV/UYVY > MJPEG > GREY: uncompressed colour first), then the
 // nearest (or, unasked, the largest) size, then the rate nearest to the request (or, unasked,
 // the fastest). False with `error` when no offered mode is usable.
-bool negotiateV4l2Format(const std::vector<V4l2Mode>& modes, const V4l2Request& request,
-                         V4l2Choice& choice, std::string& error);
+bool negotiateV4l2Format(const std::vector<V4l2Mode>& modes, const V4l2Request& request, V4l2Choice& choice,
+                         std::string& error);
 
 // Converts one driver buffer (`bytes` used, rows `bytes_per_line` apart; MJPEG: one JPEG)
 // into `dst`, which must be width x height of v4l2Encoding(fourcc)'s type and is written in
 // place. False with `error` for truncated or corrupt frames.
-bool convertV4l2Frame(std::uint32_t fourcc, const std::uint8_t* data, std::size_t bytes,
-                      int width, int height, std::size_t bytes_per_line, cv::Mat& dst,
-                      std::string& error);
+bool convertV4l2Frame(std::uint32_t fourcc, const std::uint8_t* data, std::size_t bytes, int width,
+                      int height, std::size_t bytes_per_line, cv::Mat& dst, std::string& error);
 
 // A CLOCK_MONOTONIC time on the wall clock, given both clocks read at one instant.
 inline double monotonicToWall(double monotonic, double monotonic_now, double wall_now) {

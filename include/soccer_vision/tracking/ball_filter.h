@@ -14,14 +14,14 @@
 namespace soccer_vision {
 
 struct BallFilterParams {
-  double accel_noise = 1.5;        // [m/s^1.5] sqrt of the white-acceleration density
-  double sigma_xy = 0.005;         // [m] measurement noise, std-dev per axis
-  double init_sigma_v = 4.0;       // [m/s] velocity std-dev of a new track
-  double kick_sigma_v = 5.0;       // [m/s] velocity std-dev after a kick restart
-  double max_speed = 15.0;         // [m/s] fastest plausible ball (kicks)
-  double kick_margin = 0.05;       // [m] added to the reach of a kicked ball
-  double gate_d2 = 13.8;           // squared Mahalanobis distance, chi²(2) at 99.9 %
-  double gate_min_distance = 0.03; // [m] measurements this close always pass
+  double accel_noise = 1.5;         // [m/s^1.5] sqrt of the white-acceleration density
+  double sigma_xy = 0.005;          // [m] measurement noise, std-dev per axis
+  double init_sigma_v = 4.0;        // [m/s] velocity std-dev of a new track
+  double kick_sigma_v = 5.0;        // [m/s] velocity std-dev after a kick restart
+  double max_speed = 15.0;          // [m/s] fastest plausible ball (kicks)
+  double kick_margin = 0.05;        // [m] added to the reach of a kicked ball
+  double gate_d2 = 13.8;            // squared Mahalanobis distance, chi²(2) at 99.9 %
+  double gate_min_distance = 0.03;  // [m] measurements this close always pass
 };
 
 // Checks ranges; throws std::invalid_argument naming the parameter.

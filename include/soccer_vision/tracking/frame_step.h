@@ -10,8 +10,8 @@ class FrameStep {
 
   // Call once per incoming frame: true for frames 0, n, 2n, ... since the last restart().
   bool process();
-  void restart();                    // the next frame is processed
-  void setStep(int step);            // takes effect from the next frame; throws for < 1
+  void restart();          // the next frame is processed
+  void setStep(int step);  // takes effect from the next frame; throws for < 1
   int step() const { return step_; }
   long seen() const { return seen_; }
   long processed() const { return processed_; }

@@ -35,48 +35,48 @@
 namespace soccer_vision {
 
 struct RobotFilterParams {
-  double accel_noise_xy = 1.0;     // [m/s^1.5] sqrt of the white-acceleration density, x and y
-  double accel_noise_theta = 4.0;  // [rad/s^1.5] same for the heading
-  double sigma_x = 0.004;          // [m] measurement noise, std-dev along field x
-  double sigma_y = 0.004;          // [m] along field y
-  double sigma_theta = 0.03;       // [rad] heading measurement noise
-  double init_sigma_v = 2.0;       // [m/s] velocity std-dev of a new track
-  double init_sigma_omega = 6.0;   // [rad/s] angular-velocity std-dev of a new track
-  double gate_position_d2 = 13.8;  // squared Mahalanobis distance, chi²(2) at 99.9 %
-  double gate_heading_d2 = 10.8;   // squared Mahalanobis distance, chi²(1) at 99.9 %
-  double gate_min_distance = 0.05; // [m] positions this close to the prediction always pass
-                                   //     (camera-to-camera calibration mismatch, tight filters)
-  double gate_min_angle = 0.15;    // [rad] headings this close always pass
-  int reinit_after_rejections = 3; // consecutive rejections that restart the filter (>= 1)
-  double maneuver_speed_change = 8.0;  // [m/s] largest velocity change taken as a manoeuvre
-                                       //       (a robot at 5 m/s stopped or bounced); 0 = off
-  double maneuver_omega_change = 16.0; // [rad/s] largest angular-velocity change taken as a
-                                       //   manoeuvre (a robot turning at 8 rad/s reversed); 0 = off
+  double accel_noise_xy = 1.0;          // [m/s^1.5] sqrt of the white-acceleration density, x and y
+  double accel_noise_theta = 4.0;       // [rad/s^1.5] same for the heading
+  double sigma_x = 0.004;               // [m] measurement noise, std-dev along field x
+  double sigma_y = 0.004;               // [m] along field y
+  double sigma_theta = 0.03;            // [rad] heading measurement noise
+  double init_sigma_v = 2.0;            // [m/s] velocity std-dev of a new track
+  double init_sigma_omega = 6.0;        // [rad/s] angular-velocity std-dev of a new track
+  double gate_position_d2 = 13.8;       // squared Mahalanobis distance, chi²(2) at 99.9 %
+  double gate_heading_d2 = 10.8;        // squared Mahalanobis distance, chi²(1) at 99.9 %
+  double gate_min_distance = 0.05;      // [m] positions this close to the prediction always pass
+                                        //     (camera-to-camera calibration mismatch, tight filters)
+  double gate_min_angle = 0.15;         // [rad] headings this close always pass
+  int reinit_after_rejections = 3;      // consecutive rejections that restart the filter (>= 1)
+  double maneuver_speed_change = 8.0;   // [m/s] largest velocity change taken as a manoeuvre
+                                        //       (a robot at 5 m/s stopped or bounced); 0 = off
+  double maneuver_omega_change = 16.0;  // [rad/s] largest angular-velocity change taken as a
+                                        //   manoeuvre (a robot turning at 8 rad/s reversed); 0 = off
 };
 
 // Checks ranges; throws std::invalid_argument naming the parameter.
 void validate(const RobotFilterParams& p);
 
 struct RobotMeasurement {
-  double x = 0, y = 0;             // [m]
-  double theta = 0;                // [rad]
-  bool heading_valid = true;       // false: update position only
+  double x = 0, y = 0;        // [m]
+  double theta = 0;           // [rad]
+  bool heading_valid = true;  // false: update position only
 };
 
 enum class GateResult {
-  Accepted,            // full update
-  HeadingRejected,     // position used, heading discarded as outlier
-  Rejected,            // whole measurement discarded as outlier
-  Reinitialised,       // too many rejections in a row: restarted at the measurement
-  Maneuver,            // outside the gate, within a manoeuvre's reach: position and velocity
-                       // corrected (heading as for Accepted / HeadingRejected / HeadingManeuver)
-  HeadingManeuver      // position accepted; heading outside its gate, within a turn manoeuvre's
-                       // reach: heading and angular velocity corrected
+  Accepted,         // full update
+  HeadingRejected,  // position used, heading discarded as outlier
+  Rejected,         // whole measurement discarded as outlier
+  Reinitialised,    // too many rejections in a row: restarted at the measurement
+  Maneuver,         // outside the gate, within a manoeuvre's reach: position and velocity
+                    // corrected (heading as for Accepted / HeadingRejected / HeadingManeuver)
+  HeadingManeuver   // position accepted; heading outside its gate, within a turn manoeuvre's
+                    // reach: heading and angular velocity corrected
 };
 
 class RobotFilter {
  public:
-  using State = Eigen::Matrix<double, 6, 1>;   // x, y, θ, vx, vy, ω
+  using State = Eigen::Matrix<double, 6, 1>;  // x, y, θ, vx, vy, ω
   using Covariance = Eigen::Matrix<double, 6, 6>;
 
   RobotFilter() = default;
@@ -102,16 +102,15 @@ class RobotFilter {
  private:
   void start(const RobotMeasurement& m);
   void startHeading(double theta);
-  void applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H,
-                   const Eigen::MatrixXd& R);
+  void applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R);
 
   RobotFilterParams p_;
   State x_ = State::Zero();
   Covariance P_ = Covariance::Identity();
   int rejections_ = 0;
   int heading_rejections_ = 0;
-  double since_update_ = 0;  // [s] predicted since the last accepted position
-  double since_heading_ = 0; // [s] predicted since the last heading used
+  double since_update_ = 0;   // [s] predicted since the last accepted position
+  double since_heading_ = 0;  // [s] predicted since the last heading used
 };
 
 }  // namespace soccer_vision

@@ -23,19 +23,19 @@
 namespace soccer_vision {
 
 struct SearchPlannerParams {
-  bool search_windows = true;   // false: every frame is searched whole (reason Periodic)
-  int entry_band_px = 48;       // bands along the image borders searched with the windows
-  SearchWindowParams windows;   // windows.side_px = R
+  bool search_windows = true;  // false: every frame is searched whole (reason Periodic)
+  int entry_band_px = 48;      // bands along the image borders searched with the windows
+  SearchWindowParams windows;  // windows.side_px = R
   GlobalSearchParams global_search;
 };
 
 void validate(const SearchPlannerParams& p);  // throws std::invalid_argument
 
 struct SearchPlan {
-  double stamp = 0;             // the predicted stamp of the frame this plan is for
+  double stamp = 0;  // the predicted stamp of the frame this plan is for
   // The policy's decision (Periodic for every frame when search windows are off).
   GlobalSearchReason reason = GlobalSearchReason::First;
-  bool global_search = true;    // searched whole: a reason, or no camera model to project with
+  bool global_search = true;          // searched whole: a reason, or no camera model to project with
   std::vector<SearchWindow> windows;  // the tracks' windows (also when searching whole)
   std::vector<cv::Rect> rects;        // windows + entry bands; empty for a global search
 };

@@ -22,28 +22,28 @@
 namespace soccer_vision {
 
 struct SearchWindowParams {
-  int side_px = 200;                // R [px], side of the window before enlargement
-  double robot_height = 0.150;      // [m] plane of the robot markers
-  double ball_height = 0.0215;      // [m] plane of the ball centre
-  double sigma_scale = 3.0;         // grow by this many std-devs of the predicted position (0: off)
-  double ball_speed_margin = 0.5;   // grow ball windows by this fraction of one frame's travel (0: off)
-  int max_side_px = 800;            // [px] cap on the enlarged side
-  double expected_margin_px = 20;   // [px] a target is expected in this camera when its
-                                    //      predicted centre is this far inside the image
-  bool alternative_balls = true;    // windows also for the non-primary ball tracks
+  int side_px = 200;               // R [px], side of the window before enlargement
+  double robot_height = 0.150;     // [m] plane of the robot markers
+  double ball_height = 0.0215;     // [m] plane of the ball centre
+  double sigma_scale = 3.0;        // grow by this many std-devs of the predicted position (0: off)
+  double ball_speed_margin = 0.5;  // grow ball windows by this fraction of one frame's travel (0: off)
+  int max_side_px = 800;           // [px] cap on the enlarged side
+  double expected_margin_px = 20;  // [px] a target is expected in this camera when its
+                                   //      predicted centre is this far inside the image
+  bool alternative_balls = true;   // windows also for the non-primary ball tracks
 };
 
 void validate(const SearchWindowParams& p);  // throws std::invalid_argument
 
 struct SearchWindow {
   enum class Target { Robot, Ball };
-  cv::Rect rect;                   // [px] in the raw image, clipped to it (non-empty)
+  cv::Rect rect;  // [px] in the raw image, clipped to it (non-empty)
   Target target = Target::Robot;
   int track_id = 0;
-  Team team = Team::Blue;          // robots only
-  int id = -1;                     // robots only; -1 team-only
-  Eigen::Vector2d centre{0, 0};    // [px] predicted projection (may lie outside the image)
-  bool expected = false;           // centre inside the image (margin): should be seen in this frame
+  Team team = Team::Blue;        // robots only
+  int id = -1;                   // robots only; -1 team-only
+  Eigen::Vector2d centre{0, 0};  // [px] predicted projection (may lie outside the image)
+  bool expected = false;         // centre inside the image (margin): should be seen in this frame
 };
 
 // Windows for the frame the prediction was made for (`predicted` = Tracker::output(stamp of

@@ -34,9 +34,9 @@
 
 #include <Eigen/Core>
 
-#include "soccer_vision/tracking/ball_filter.h"
 #include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/detections.h"
+#include "soccer_vision/tracking/ball_filter.h"
 #include "soccer_vision/tracking/robot_filter.h"
 #include "soccer_vision/tracking/tracker_timeline.h"
 
@@ -46,13 +46,13 @@ struct TrackerParams {
   RobotFilterParams robot;
   BallFilterParams ball;
   TimelineParams time;
-  double robot_lost_timeout = 0.5;  // [s] without a measurement -> robot track dropped
-  double ball_lost_timeout = 0.5;   // [s] likewise for ball tracks
-  double min_confidence = 0.0;      // [0..1] detections below are ignored
-  int max_ball_tracks = 3;          // primary ball + alternatives (>= 1)
-  double visible_window = 0.001;    // [s] "visible": measured at most this long before the output stamp
+  double robot_lost_timeout = 0.5;    // [s] without a measurement -> robot track dropped
+  double ball_lost_timeout = 0.5;     // [s] likewise for ball tracks
+  double min_confidence = 0.0;        // [0..1] detections below are ignored
+  int max_ball_tracks = 3;            // primary ball + alternatives (>= 1)
+  double visible_window = 0.001;      // [s] "visible": measured at most this long before the output stamp
   double confidence_smoothing = 0.3;  // (0..1] weight of a new detection in the running confidence
-  double ball_rate_memory = 0.25;   // [s] time constant of the ball tracks' measurement rate
+  double ball_rate_memory = 0.25;     // [s] time constant of the ball tracks' measurement rate
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
   // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
   double measurement_offset = 0.0;
@@ -64,7 +64,7 @@ struct TrackerParams {
 void validate(const TrackerParams& p);  // throws std::invalid_argument naming the parameter
 
 struct TrackedRobot {
-  int track_id = 0;            // unique for the tracker's lifetime (never reused)
+  int track_id = 0;  // unique for the tracker's lifetime (never reused)
   Team team = Team::Blue;
   int id = -1;                 // -1: team-only track
   double x = 0, y = 0;         // [m]
@@ -103,19 +103,19 @@ struct TrackerOutput {
 // What one update() did (for diagnostics and the search policy).
 struct TrackerUpdateReport {
   TimeDecision time;
-  int robots_measured = 0;        // tracks updated (including heading-rejected, reinitialised)
+  int robots_measured = 0;  // tracks updated (including heading-rejected, reinitialised)
   int robots_created = 0;
-  int robot_outliers = 0;         // measurements rejected by the gate
-  int heading_outliers = 0;       // position used, heading rejected
-  int robot_maneuvers = 0;        // outside the gate, taken as a sudden velocity change
-  int heading_maneuvers = 0;      // heading outside its gate, taken as a sudden turn
-  int robots_reinitialised = 0;   // restarted after consecutive rejections
-  int duplicate_detections = 0;   // same identity twice in one frame
-  int invalid_detections = 0;     // non-finite numbers
+  int robot_outliers = 0;        // measurements rejected by the gate
+  int heading_outliers = 0;      // position used, heading rejected
+  int robot_maneuvers = 0;       // outside the gate, taken as a sudden velocity change
+  int heading_maneuvers = 0;     // heading outside its gate, taken as a sudden turn
+  int robots_reinitialised = 0;  // restarted after consecutive rejections
+  int duplicate_detections = 0;  // same identity twice in one frame
+  int invalid_detections = 0;    // non-finite numbers
   int balls_measured = 0;
-  int ball_kicks = 0;             // ball filters restarted by a kick
+  int ball_kicks = 0;  // ball filters restarted by a kick
   int balls_created = 0;
-  int tracks_lost = 0;            // robot and ball tracks dropped after their lost timeout
+  int tracks_lost = 0;                  // robot and ball tracks dropped after their lost timeout
   std::vector<int> measured_track_ids;  // tracks this frame updated or created
   bool reset() const { return time.action == TimeAction::Reset; }
   bool processed() const { return time.action != TimeAction::Drop; }
@@ -140,7 +140,7 @@ class Tracker {
   TrackerOutput output(double stamp) const;
   TrackerOutput output() const { return output(time()); }
 
-  void reset();  // drops all tracks and the clock
+  void reset();                                    // drops all tracks and the clock
   double time() const { return timeline_.now(); }  // measurement time of the newest frame
   bool started() const { return timeline_.started(); }
   std::size_t numRobotTracks() const { return robots_.size(); }
@@ -171,7 +171,7 @@ class Tracker {
     double confidence;
     double z;
     long hits;
-    double rate;        // measurements per ball_rate_memory, at rate_stamp
+    double rate;  // measurements per ball_rate_memory, at rate_stamp
     double rate_stamp;
   };
   double rateAt(const BallTrack& t, double now) const;
@@ -182,10 +182,8 @@ class Tracker {
   void updateBalls(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report);
   void measureRobot(RobotTrack& track, const RobotDetection& d, const CameraFrameDetections& frame,
                     double lag, TrackerUpdateReport& report);
-  void startRobot(const RobotDetection& d, const CameraFrameDetections& frame,
-                  TrackerUpdateReport& report);
-  void startBall(const BallDetection& d, const CameraFrameDetections& frame,
-                 TrackerUpdateReport& report);
+  void startRobot(const RobotDetection& d, const CameraFrameDetections& frame, TrackerUpdateReport& report);
+  void startBall(const BallDetection& d, const CameraFrameDetections& frame, TrackerUpdateReport& report);
   void dropLost(TrackerUpdateReport& report);
   RobotMeasurement compensated(const RobotTrack& track, const RobotDetection& d, double lag) const;
   double fadedConfidence(double confidence, double last_measured, double stamp, double timeout) const;

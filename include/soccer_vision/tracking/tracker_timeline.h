@@ -21,8 +21,8 @@
 namespace soccer_vision {
 
 struct TimelineParams {
-  double late_tolerance = 0.020;   // [s] frames at most this much older than `now` are fused
-  double max_forward_jump = 1.0;   // [s] larger forward steps reset all tracks
+  double late_tolerance = 0.020;  // [s] frames at most this much older than `now` are fused
+  double max_forward_jump = 1.0;  // [s] larger forward steps reset all tracks
 };
 
 void validate(const TimelineParams& p);  // throws std::invalid_argument

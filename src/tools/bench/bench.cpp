@@ -28,12 +28,12 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
-#include "soccer_vision/simulation/calibration_samples.h"
+#include "opencv_baseline.h"
 #include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/segmentation/segmenter.h"
+#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
-#include "opencv_baseline.h"
-#include "soccer_vision/segmentation/segmenter.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -57,11 +57,16 @@ Options parseArgs(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--json") o.json = value();
-    else if (a == "--frames") o.frames = std::max(1, std::stoi(value()));
-    else if (a == "--repeat") o.repeat = std::max(1, std::stoi(value()));
-    else if (a == "--windows-only") o.windows_only = true;
-    else if (a == "--regions") o.regions = value();
+    if (a == "--json")
+      o.json = value();
+    else if (a == "--frames")
+      o.frames = std::max(1, std::stoi(value()));
+    else if (a == "--repeat")
+      o.repeat = std::max(1, std::stoi(value()));
+    else if (a == "--windows-only")
+      o.windows_only = true;
+    else if (a == "--regions")
+      o.regions = value();
     else if (a == "--resolutions") {
       o.resolutions.clear();
       std::stringstream ss(value());
@@ -71,7 +76,9 @@ Options parseArgs(int argc, char** argv) {
         o.resolutions.emplace_back(std::stoi(r.substr(0, x)), std::stoi(r.substr(x + 1)));
       }
     } else {
-      throw std::runtime_error("unknown argument '" + a + "' (--json FILE, --frames N, --repeat R, --resolutions WxH,..., --windows-only, --regions FILE)");
+      throw std::runtime_error(
+          "unknown argument '" + a +
+          "' (--json FILE, --frames N, --repeat R, --resolutions WxH,..., --windows-only, --regions FILE)");
     }
   }
   return o;
@@ -110,7 +117,9 @@ std::vector<cv::Rect> windowsFor(const sv::SceneState& scene, const sv::FieldRen
   std::vector<cv::Rect> out;
   auto add = [&](const Eigen::Vector3d& p) {
     const auto px = cam.project(p);
-    if (px && cam.inImage(*px)) out.emplace_back(static_cast<int>(px->x()) - side / 2, static_cast<int>(px->y()) - side / 2, side, side);
+    if (px && cam.inImage(*px))
+      out.emplace_back(static_cast<int>(px->x()) - side / 2, static_cast<int>(px->y()) - side / 2, side,
+                       side);
   };
   for (const auto& r : scene.robots) add({r.x, r.y, patterns.robot_height});
   for (const auto& b : scene.balls) add({b.x, b.y, b.z});
@@ -122,8 +131,8 @@ void writeRegions(std::FILE* out, const std::string& what, const sv::Segmentatio
   if (!out) return;
   for (const sv::Region& r : result.regions) {
     std::fprintf(out, "%s c%d a%u %.17g %.17g %.17g %.17g %.17g %.17g box %d %d %d %d\n", what.c_str(),
-                 static_cast<int>(r.color), r.area, r.cx, r.cy, r.mu20, r.mu11, r.mu02, r.orientation, r.bbox.x,
-                 r.bbox.y, r.bbox.width, r.bbox.height);
+                 static_cast<int>(r.color), r.area, r.cx, r.cy, r.mu20, r.mu11, r.mu02, r.orientation,
+                 r.bbox.x, r.bbox.y, r.bbox.width, r.bbox.height);
   }
 }
 
@@ -179,7 +188,8 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* 
   std::size_t regions = 0, windows = 0;
   volatile std::uint64_t sink = 0;
   auto tag = [&](int frame, const char* what) {
-    return std::to_string(size.width) + "x" + std::to_string(size.height) + " frame " + std::to_string(frame) + " " + what;
+    return std::to_string(size.width) + "x" + std::to_string(size.height) + " frame " +
+           std::to_string(frame) + " " + what;
   };
   for (int i = 0; i < o.frames; ++i) {
     const auto wins = windowsFor(scenes[i], renderer, patterns);
@@ -222,26 +232,35 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* 
   }
 
   const double seg = s.med("total"), cv_ms = s.med("opencv"), floor = s.med("floor");
-  std::printf("\n%dx%d  (%d frames x %d repeats; lookup built in %.0f ms; %.1f regions/frame; %.1f windows/frame)\n",
-              size.width, size.height, o.frames, o.repeat, model_ms,
-              static_cast<double>(regions) / (o.frames * o.repeat), static_cast<double>(windows) / o.frames);
+  std::printf(
+      "\n%dx%d  (%d frames x %d repeats; lookup built in %.0f ms; %.1f regions/frame; %.1f windows/frame)\n",
+      size.width, size.height, o.frames, o.repeat, model_ms,
+      static_cast<double>(regions) / (o.frames * o.repeat), static_cast<double>(windows) / o.frames);
   if (!o.windows_only) {
-    std::printf("  segmentation, full frame   %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, regions %.3f)\n",
-                seg, s.med("illumination"), s.med("classification"), s.med("morphology"), s.med("regions"));
+    std::printf(
+        "  segmentation, full frame   %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, "
+        "regions %.3f)\n",
+        seg, s.med("illumination"), s.med("classification"), s.med("morphology"), s.med("regions"));
   }
-  std::printf("  segmentation, windows      %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, regions %.3f)\n",
-              s.med("windowed"), s.med("windowed_illumination"), s.med("windowed_classification"),
-              s.med("windowed_morphology"), s.med("windowed_regions"));
+  std::printf(
+      "  segmentation, windows      %8.3f ms  (illumination %.3f, classification %.3f, morphology %.3f, "
+      "regions %.3f)\n",
+      s.med("windowed"), s.med("windowed_illumination"), s.med("windowed_classification"),
+      s.med("windowed_morphology"), s.med("windowed_regions"));
   if (o.windows_only) {
     return {{"width", size.width}, {"height", size.height}, {"windowed_ms", s.med("windowed")}};
   }
-  std::printf("  pixels looked up: full frame %.0f grid + %.0f around hits, windows %.0f grid + %.0f around hits\n",
-              s.med("grid_points"), s.med("classified_pixels"), s.med("windowed_grid_points"),
-              s.med("windowed_classified_pixels"));
-  std::printf("  segmentation, sharpen 0.5  %8.3f ms  (%.2fx unsharpened)\n", s.med("sharpened"), s.med("sharpened") / seg);
+  std::printf(
+      "  pixels looked up: full frame %.0f grid + %.0f around hits, windows %.0f grid + %.0f around hits\n",
+      s.med("grid_points"), s.med("classified_pixels"), s.med("windowed_grid_points"),
+      s.med("windowed_classified_pixels"));
+  std::printf("  segmentation, sharpen 0.5  %8.3f ms  (%.2fx unsharpened)\n", s.med("sharpened"),
+              s.med("sharpened") / seg);
   std::printf("  segmentation, bayer_rggb8  %8.3f ms  (%.2fx bgr8)\n", s.med("bayer"), s.med("bayer") / seg);
-  std::printf("  OpenCV pipeline            %8.3f ms  -> soccer_vision is %.1fx faster\n", cv_ms, cv_ms / seg);
-  std::printf("  memory-read floor          %8.3f ms  -> soccer_vision is %.2fx the floor\n", floor, seg / floor);
+  std::printf("  OpenCV pipeline            %8.3f ms  -> soccer_vision is %.1fx faster\n", cv_ms,
+              cv_ms / seg);
+  std::printf("  memory-read floor          %8.3f ms  -> soccer_vision is %.2fx the floor\n", floor,
+              seg / floor);
 
   return {{"width", size.width},
           {"height", size.height},

@@ -49,24 +49,24 @@
 #include <set>
 #include <stdexcept>
 #include <string>
-#include <sys/stat.h>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sys/stat.h>
 
-#include "soccer_vision/common/camera_pose_file.h"
+#include "command_line.h"
+#include "evaluate_report.h"
+#include "evaluation_plots.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/calibration/color_calibration.h"
-#include "command_line.h"
-#include "soccer_vision/evaluation/evaluation.h"
-#include "evaluation_plots.h"
-#include "soccer_vision/tracking/result_recording.h"
+#include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/statistics.h"
+#include "soccer_vision/evaluation/evaluation.h"
+#include "soccer_vision/pipeline/vision_pipeline.h"
 #include "soccer_vision/ros/bag_frames.h"
 #include "soccer_vision/ros/conversions.h"
-#include "soccer_vision/pipeline/vision_pipeline.h"
-#include "evaluate_report.h"
+#include "soccer_vision/tracking/result_recording.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -87,7 +87,8 @@ void usage() {
   std::cerr
       << "usage: evaluate --bag FILE [--truth truth.jsonl]\n"
          "         [--colors T.svct[,..] | --samples S.yaml[,..] [--calibration-image P.png[,..]]]\n"
-         "         [--field-points F.yaml[,..] | --camera-pose C.yaml[,..]] [--patterns two_tag|ssl|team_only|FILE]\n"
+         "         [--field-points F.yaml[,..] | --camera-pose C.yaml[,..]] [--patterns "
+         "two_tag|ssl|team_only|FILE]\n"
          "         [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]\n"
          "         [--measurement-offset S[,S1]]\n"
          "         [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]\n"
@@ -100,41 +101,63 @@ Options parse(int argc, char** argv) {
   Options o;
   for (sv::CommandLine args(argc, argv); args.next();) {
     const std::string& a = args.flag();
-    if (a == "--bag") o.bag = args.value();
-    else if (a == "--truth") o.truth = args.value();
-    else if (a == "--results") o.results = args.value();
-    else if (a == "--json") o.json = args.value();
-    else if (a == "--plots") o.plots = args.value();
-    else if (a == "--markdown") o.markdown = args.value();
-    else if (a == "--title") o.title = args.value();
-    else if (a == "--patterns") o.patterns = args.value();
-    else if (a == "--colors") o.colors = args.list();
-    else if (a == "--samples") o.samples = args.list();
-    else if (a == "--calibration-image") o.calibration_images = args.list();
-    else if (a == "--field-points") o.field_points = args.list();
-    else if (a == "--camera-pose") o.camera_poses = args.list();
+    if (a == "--bag")
+      o.bag = args.value();
+    else if (a == "--truth")
+      o.truth = args.value();
+    else if (a == "--results")
+      o.results = args.value();
+    else if (a == "--json")
+      o.json = args.value();
+    else if (a == "--plots")
+      o.plots = args.value();
+    else if (a == "--markdown")
+      o.markdown = args.value();
+    else if (a == "--title")
+      o.title = args.value();
+    else if (a == "--patterns")
+      o.patterns = args.value();
+    else if (a == "--colors")
+      o.colors = args.list();
+    else if (a == "--samples")
+      o.samples = args.list();
+    else if (a == "--calibration-image")
+      o.calibration_images = args.list();
+    else if (a == "--field-points")
+      o.field_points = args.list();
+    else if (a == "--camera-pose")
+      o.camera_poses = args.list();
     else if (a == "--measurement-offset") {
       for (const std::string& v : args.list()) o.measurement_offsets.push_back(sv::parseNumber(a, v));
     } else if (a == "--cameras") {
       for (const std::string& c : args.list()) o.cameras.push_back(sv::parseInteger(a, c, 0));
-    } else if (a == "--frame-step") o.frame_step = args.integer(1);
-    else if (a == "--window-side") o.window_side = args.integer(1);
-    else if (a == "--no-windows") o.windows = false;
-    else if (a == "--skip-table2") o.table2 = false;
-    else if (a == "--sweep") o.sweep = true;
-    else if (a == "--results-only") o.results_only = true;
+    } else if (a == "--frame-step")
+      o.frame_step = args.integer(1);
+    else if (a == "--window-side")
+      o.window_side = args.integer(1);
+    else if (a == "--no-windows")
+      o.windows = false;
+    else if (a == "--skip-table2")
+      o.table2 = false;
+    else if (a == "--sweep")
+      o.sweep = true;
+    else if (a == "--results-only")
+      o.results_only = true;
     else if (a == "--help" || a == "-h") {
       usage();
       std::exit(0);
-    } else throw std::invalid_argument("unknown argument '" + a + "'");
+    } else
+      throw std::invalid_argument("unknown argument '" + a + "'");
   }
   if (o.results_only) {
     if (o.results.empty()) throw std::invalid_argument("--results-only needs --results FILE");
-    if (o.truth.empty() && o.bag.empty()) throw std::invalid_argument("--results-only needs --truth FILE or --bag FILE");
+    if (o.truth.empty() && o.bag.empty())
+      throw std::invalid_argument("--results-only needs --truth FILE or --bag FILE");
   } else if (o.bag.empty()) {
     throw std::invalid_argument("--bag FILE is required");
   }
-  if (!o.colors.empty() && !o.samples.empty()) throw std::invalid_argument("give --colors or --samples, not both");
+  if (!o.colors.empty() && !o.samples.empty())
+    throw std::invalid_argument("give --colors or --samples, not both");
   if (!o.field_points.empty() && !o.camera_poses.empty()) {
     throw std::invalid_argument("give --field-points or --camera-pose, not both");
   }
@@ -154,9 +177,11 @@ std::string directoryOf(const std::string& path) {
 // Entry `index` of a per-camera list, else make_scenario's file beside the bag
 // (<stem>_camera_<n><ext>, or <stem><ext> for the first camera); "" when neither exists.
 std::string cameraFile(const std::vector<std::string>& given, std::size_t index, const std::string& flag,
-                       const std::string& bag, const std::string& stem, const std::string& ext, int camera_id) {
+                       const std::string& bag, const std::string& stem, const std::string& ext,
+                       int camera_id) {
   if (!given.empty()) {
-    if (index >= given.size()) throw std::invalid_argument(flag + " has no entry for camera " + std::to_string(camera_id));
+    if (index >= given.size())
+      throw std::invalid_argument(flag + " has no entry for camera " + std::to_string(camera_id));
     return given[index];
   }
   const std::string dir = directoryOf(bag);
@@ -174,9 +199,12 @@ std::map<std::size_t, std::string> calibrationSamplesBeside(const std::string& b
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(directoryOf(bag), ec)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind(prefix, 0) != 0 || name.size() <= prefix.size() + 5 || name.substr(name.size() - 5) != ".yaml") continue;
+    if (name.rfind(prefix, 0) != 0 || name.size() <= prefix.size() + 5 ||
+        name.substr(name.size() - 5) != ".yaml")
+      continue;
     const std::string index = name.substr(prefix.size(), name.size() - prefix.size() - 5);
-    if (index.find_first_not_of("0123456789") == std::string::npos) found[std::stoul(index)] = entry.path().string();
+    if (index.find_first_not_of("0123456789") == std::string::npos)
+      found[std::stoul(index)] = entry.path().string();
   }
   return found;
 }
@@ -191,7 +219,8 @@ std::map<std::size_t, std::string> samplesByFrame(const Options& o, std::size_t 
   if (samples.empty()) {
     const std::string file = cameraFile(o.samples, index, "--samples", o.bag, "samples", ".yaml", camera_id);
     if (file.empty()) {
-      throw std::invalid_argument("camera " + std::to_string(camera_id) + ": no colour table (--colors) and no samples "
+      throw std::invalid_argument("camera " + std::to_string(camera_id) +
+                                  ": no colour table (--colors) and no samples "
                                   "(--samples, or make_scenario's samples files beside the bag)");
     }
     samples[0] = file;
@@ -201,12 +230,14 @@ std::map<std::size_t, std::string> samplesByFrame(const Options& o, std::size_t 
 
 // The colour table of one camera: given, or calibrated like calibrate_colors does from
 // samples on frames of the bag (their quad colours for Bayer: what the classifier reads).
-std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const std::map<std::size_t, std::string>& samples,
-                                                        const std::map<std::size_t, sv::BagFrames::Image>& frames,
-                                                        std::size_t index, int camera_id) {
+std::shared_ptr<const sv::SegmentationModel> colorModel(
+    const Options& o, const std::map<std::size_t, std::string>& samples,
+    const std::map<std::size_t, sv::BagFrames::Image>& frames, std::size_t index, int camera_id) {
   if (!o.colors.empty()) {
-    if (index >= o.colors.size()) throw std::invalid_argument("--colors has no entry for camera " + std::to_string(camera_id));
-    return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::ColorTable::load(o.colors[index])));
+    if (index >= o.colors.size())
+      throw std::invalid_argument("--colors has no entry for camera " + std::to_string(camera_id));
+    return sv::SegmentationModel::fromTable(
+        std::make_shared<const sv::ColorTable>(sv::ColorTable::load(o.colors[index])));
   }
   std::vector<sv::CalibrationImage> images;
   std::string described;
@@ -215,15 +246,16 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const 
     image.samples = sv::loadColorSamples(file);
     if (!o.calibration_images.empty()) {
       if (index >= o.calibration_images.size()) {
-        throw std::invalid_argument("--calibration-image has no entry for camera " + std::to_string(camera_id));
+        throw std::invalid_argument("--calibration-image has no entry for camera " +
+                                    std::to_string(camera_id));
       }
       image.bgr = cv::imread(o.calibration_images[index], cv::IMREAD_COLOR);
       if (image.bgr.empty()) throw std::invalid_argument(o.calibration_images[index] + ": cannot read image");
     } else {
       const auto found = frames.find(frame);
       if (found == frames.end()) {
-        throw std::invalid_argument(o.bag + ": camera " + std::to_string(camera_id) + " has no readable frame " +
-                                    std::to_string(frame) + " for " + file);
+        throw std::invalid_argument(o.bag + ": camera " + std::to_string(camera_id) +
+                                    " has no readable frame " + std::to_string(frame) + " for " + file);
       }
       image.bgr = sv::classifiedColors(found->second.pixels, found->second.layout);
     }
@@ -234,7 +266,8 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(const Options& o, const 
               o.calibration_images.empty() ? (std::to_string(images.size()) + " frame(s)").c_str()
                                            : o.calibration_images[index].c_str(),
               described.c_str());
-  return sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
+  return sv::SegmentationModel::fromTable(
+      std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
 }
 
 // Intrinsics from the bag's camera_info, the pose given or solved like calibrate_field.
@@ -242,28 +275,38 @@ sv::CameraModel cameraModel(const Options& o, const sv::BagCamera& camera, std::
   if (!camera.has_info) throw std::invalid_argument(camera.ns + ": no camera_info in the bag");
   const sv::CameraIntrinsics intrinsics = sv::intrinsicsFromCameraInfo(camera.info);
   if (!o.camera_poses.empty()) {
-    if (index >= o.camera_poses.size()) throw std::invalid_argument("--camera-pose has no entry for camera " + std::to_string(camera.id));
-    return sv::cameraModelFromPose(sv::loadCameraPoseFile(o.camera_poses[index]), intrinsics, o.camera_poses[index]);
+    if (index >= o.camera_poses.size())
+      throw std::invalid_argument("--camera-pose has no entry for camera " + std::to_string(camera.id));
+    return sv::cameraModelFromPose(sv::loadCameraPoseFile(o.camera_poses[index]), intrinsics,
+                                   o.camera_poses[index]);
   }
-  const std::string points = cameraFile(o.field_points, index, "--field-points", o.bag, "field_points", ".yaml", camera.id);
+  const std::string points =
+      cameraFile(o.field_points, index, "--field-points", o.bag, "field_points", ".yaml", camera.id);
   if (points.empty()) {
-    throw std::invalid_argument("camera " + std::to_string(camera.id) + ": no camera pose (--camera-pose) and no field "
+    throw std::invalid_argument("camera " + std::to_string(camera.id) +
+                                ": no camera pose (--camera-pose) and no field "
                                 "points (--field-points, or field_points.yaml beside the bag)");
   }
   const sv::CameraPoseSolution pose = sv::solveCameraPose(intrinsics, sv::loadFieldCorrespondences(points));
-  std::printf("camera %d: pose solved from %s, reprojection RMS %.3f px (max %.3f px)\n", camera.id, points.c_str(),
-              pose.rms_px, pose.max_px);
+  std::printf("camera %d: pose solved from %s, reprojection RMS %.3f px (max %.3f px)\n", camera.id,
+              points.c_str(), pose.rms_px, pose.max_px);
   return pose.model();
 }
 
 const char* encodingName(sv::PixelLayout layout) {
   switch (layout) {
-    case sv::PixelLayout::Bgr: return "bgr8";
-    case sv::PixelLayout::Rgb: return "rgb8";
-    case sv::PixelLayout::BayerRggb: return "bayer_rggb8";
-    case sv::PixelLayout::BayerBggr: return "bayer_bggr8";
-    case sv::PixelLayout::BayerGbrg: return "bayer_gbrg8";
-    case sv::PixelLayout::BayerGrbg: return "bayer_grbg8";
+    case sv::PixelLayout::Bgr:
+      return "bgr8";
+    case sv::PixelLayout::Rgb:
+      return "rgb8";
+    case sv::PixelLayout::BayerRggb:
+      return "bayer_rggb8";
+    case sv::PixelLayout::BayerBggr:
+      return "bayer_bggr8";
+    case sv::PixelLayout::BayerGbrg:
+      return "bayer_gbrg8";
+    case sv::PixelLayout::BayerGrbg:
+      return "bayer_grbg8";
   }
   return "?";
 }
@@ -273,7 +316,8 @@ const char* encodingName(sv::PixelLayout layout) {
 struct RunStats {
   sv::RunEvaluation evaluation;
   std::int64_t images = 0, processed = 0, global = 0, windowed = 0;
-  std::vector<double> preprocessing, classification, recognition, tracking, total;  // [ms] per processed frame
+  std::vector<double> preprocessing, classification, recognition, tracking,
+      total;           // [ms] per processed frame
   double seconds = 0;  // pipeline time (bag reading excluded)
 };
 
@@ -294,7 +338,8 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
   setup.problems = {};
   setup.bag->forEachImage(
       ids,
-      [&](const sv::BagCamera& camera, const sensor_msgs::Image& msg, const cv::Mat& image, sv::PixelLayout layout) {
+      [&](const sv::BagCamera& camera, const sensor_msgs::Image& msg, const cv::Mat& image,
+          sv::PixelLayout layout) {
         ++s.images;
         const sv::PipelineCamera& pc = *pipeline.camera(camera.id);
         if (layout != pc.layout || image.cols != pc.model.width() || image.rows != pc.model.height()) {
@@ -341,17 +386,26 @@ json scoreJson(const sv::RunEvaluation& e) {
   const std::int64_t excused = s.excused_robots + s.excused_balls;
   return {
       {"robots",
-       {{"truth", s.truth_robots}, {"results", s.result_robots}, {"matched", s.matched_robots},
-        {"false_positives", s.false_robots}, {"detection_rate", s.robotDetectionRate()},
-        {"precision", s.robotPrecision()}, {"position_rmse_mm", 1e3 * s.robotPositionRmse()},
+       {{"truth", s.truth_robots},
+        {"results", s.result_robots},
+        {"matched", s.matched_robots},
+        {"false_positives", s.false_robots},
+        {"detection_rate", s.robotDetectionRate()},
+        {"precision", s.robotPrecision()},
+        {"position_rmse_mm", 1e3 * s.robotPositionRmse()},
         {"heading_rmse_deg", s.robotHeadingRmse() * 180 / M_PI}}},
       {"ball",
-       {{"truth", s.truth_balls}, {"results", s.result_balls}, {"matched", s.matched_balls},
-        {"false_positives", s.false_balls}, {"detection_rate", s.ballDetectionRate()},
-        {"precision", s.ballPrecision()}, {"position_rmse_mm", 1e3 * s.ballPositionRmse()}}},
+       {{"truth", s.truth_balls},
+        {"results", s.result_balls},
+        {"matched", s.matched_balls},
+        {"false_positives", s.false_balls},
+        {"detection_rate", s.ballDetectionRate()},
+        {"precision", s.ballPrecision()},
+        {"position_rmse_mm", 1e3 * s.ballPositionRmse()}}},
       {"all",
        {{"detection_rate", ratio(s.matched_robots + s.matched_balls, s.truth_robots + s.truth_balls)},
-        {"precision", ratio(s.matched_robots + s.matched_balls, s.result_robots + s.result_balls - excused)}}},
+        {"precision",
+         ratio(s.matched_robots + s.matched_balls, s.result_robots + s.result_balls - excused)}}},
       {"identity_switches", e.identitySwitches()},
       {"identity_errors", s.identity_errors},
       {"frames_scored", s.frames},
@@ -363,8 +417,11 @@ json scoreJson(const sv::RunEvaluation& e) {
 json stageJson(const RunStats& s) {
   json j;
   const std::pair<const char*, const std::vector<double>*> stages[] = {
-      {"preprocessing", &s.preprocessing}, {"classification", &s.classification},
-      {"recognition_and_pose", &s.recognition}, {"tracking", &s.tracking}, {"total", &s.total}};
+      {"preprocessing", &s.preprocessing},
+      {"classification", &s.classification},
+      {"recognition_and_pose", &s.recognition},
+      {"tracking", &s.tracking},
+      {"total", &s.total}};
   for (const auto& [name, v] : stages) {
     j[name] = {{"mean_ms", mean(*v)}, {"p50_ms", sv::percentile(*v, 50)}, {"p99_ms", sv::percentile(*v, 99)}};
   }
@@ -392,7 +449,8 @@ json runSummary(const RunStats& s) {
 // --- Plots ------------------------------------------------------------------------
 
 void writePlots(const std::string& dir, const sv::RunEvaluation& e, const RunStats* timing,
-                const std::vector<std::pair<int, const sv::RunEvaluation*>>& predictions, const sv::FieldGeometry& field) {
+                const std::vector<std::pair<int, const sv::RunEvaluation*>>& predictions,
+                const sv::FieldGeometry& field) {
   ::mkdir(dir.c_str(), 0755);
   const double nan = std::nan("");
   std::vector<sv::TrajectorySeries> trajectories;
@@ -426,7 +484,8 @@ void writePlots(const std::string& dir, const sv::RunEvaluation& e, const RunSta
   if (timing) {
     sv::StageTimes stages;
     stages.stage = {"preprocessing", "classification", "recognition and pose", "tracking", "total"};
-    stages.ms = {timing->preprocessing, timing->classification, timing->recognition, timing->tracking, timing->total};
+    stages.ms = {timing->preprocessing, timing->classification, timing->recognition, timing->tracking,
+                 timing->total};
     sv::plotStageTimingHistogram(stages, dir + "/stage_times.png");
   }
   if (!predictions.empty()) {
@@ -469,15 +528,18 @@ int resultsOnly(const Options& o) {
   std::unique_ptr<sv::BagFrames> bag;
   if (o.truth.empty()) bag = std::make_unique<sv::BagFrames>(o.bag);
   const sv::TruthTimeline truth(loadTruth(o, bag.get()));
-  if (truth.empty()) throw std::invalid_argument("no ground truth (--truth, or the bag's ground_truth topics)");
+  if (truth.empty())
+    throw std::invalid_argument("no ground truth (--truth, or the bag's ground_truth topics)");
   const std::vector<sv::FrameRecord> results = sv::readJsonLines(o.results);
   sv::RunEvaluation e;
   for (const sv::FrameRecord& r : results) {
-    if (const sv::FrameRecord* t = truth.at(r.stamp)) e.add(*t, r);
-    else e.addUnscored();
+    if (const sv::FrameRecord* t = truth.at(r.stamp))
+      e.add(*t, r);
+    else
+      e.addUnscored();
   }
-  std::printf("evaluate: %s, %zu result frames against %zu ground-truth frames\n", o.results.c_str(), results.size(),
-              truth.size());
+  std::printf("evaluate: %s, %zu result frames against %zu ground-truth frames\n", o.results.c_str(),
+              results.size(), truth.size());
   json report = scoreJson(e);
   report["results"] = o.results;
   sv::printScore(report);
@@ -493,7 +555,8 @@ int evaluateBag(const Options& o) {
   setup.patterns = sv::patternSetByName(o.patterns);
   std::vector<const sv::BagCamera*> cameras;
   for (const sv::BagCamera& c : bag.cameras()) {
-    if (o.cameras.empty() || std::find(o.cameras.begin(), o.cameras.end(), c.id) != o.cameras.end()) cameras.push_back(&c);
+    if (o.cameras.empty() || std::find(o.cameras.begin(), o.cameras.end(), c.id) != o.cameras.end())
+      cameras.push_back(&c);
   }
   for (int id : o.cameras) {
     if (!bag.camera(id)) throw std::invalid_argument(o.bag + ": no camera " + std::to_string(id));
@@ -510,7 +573,8 @@ int evaluateBag(const Options& o) {
     }
     const std::map<std::size_t, sv::BagFrames::Image> frames = bag.images(pc.id, wanted);
     if (!frames.count(0)) {
-      throw std::invalid_argument(o.bag + ": camera " + std::to_string(pc.id) + "'s first image cannot be read");
+      throw std::invalid_argument(o.bag + ": camera " + std::to_string(pc.id) +
+                                  "'s first image cannot be read");
     }
     pc.layout = frames.at(0).layout;
     pc.segmentation = colorModel(o, samples, frames, i, pc.id);
@@ -524,9 +588,12 @@ int evaluateBag(const Options& o) {
   params.search.windows.side_px = o.window_side;
   params.search.search_windows = o.windows;
   for (std::size_t i = 0; i < o.measurement_offsets.size(); ++i) {
-    if (o.measurement_offsets.size() == 1) params.tracker.measurement_offset = o.measurement_offsets[i];
-    else if (i < setup.cameras.size()) params.tracker.camera_measurement_offsets[setup.cameras[i].id] = o.measurement_offsets[i];
-    else throw std::invalid_argument("--measurement-offset has more entries than there are cameras");
+    if (o.measurement_offsets.size() == 1)
+      params.tracker.measurement_offset = o.measurement_offsets[i];
+    else if (i < setup.cameras.size())
+      params.tracker.camera_measurement_offsets[setup.cameras[i].id] = o.measurement_offsets[i];
+    else
+      throw std::invalid_argument("--measurement-offset has more entries than there are cameras");
   }
 
   std::unique_ptr<sv::JsonLinesWriter> results;
@@ -534,16 +601,18 @@ int evaluateBag(const Options& o) {
   const RunStats main = run(setup, params, results.get());
   if (main.processed == 0) throw std::invalid_argument(o.bag + ": no frame could be processed");
 
-  std::printf("evaluate: %s, %zu camera(s), %lld images, %lld processed (frame_step %d, %s), pattern %s, %s\n",
-              o.bag.c_str(), setup.cameras.size(), static_cast<long long>(main.images),
-              static_cast<long long>(main.processed), o.frame_step,
-              o.windows ? ("windows R = " + std::to_string(o.window_side) + " px").c_str() : "no windows",
-              setup.patterns.name.c_str(), setup.truth ? "ground truth found" : "NO ground truth");
+  std::printf(
+      "evaluate: %s, %zu camera(s), %lld images, %lld processed (frame_step %d, %s), pattern %s, %s\n",
+      o.bag.c_str(), setup.cameras.size(), static_cast<long long>(main.images),
+      static_cast<long long>(main.processed), o.frame_step,
+      o.windows ? ("windows R = " + std::to_string(o.window_side) + " px").c_str() : "no windows",
+      setup.patterns.name.c_str(), setup.truth ? "ground truth found" : "NO ground truth");
   const sv::BagImageProblems& skipped = setup.problems;
   if (skipped.unsupported_encoding + skipped.truncated + skipped.other_format > 0) {
-    std::printf("skipped: %zu images of unsupported encodings, %zu truncated, %zu of another size or encoding than "
-                "the camera's first\n",
-                skipped.unsupported_encoding, skipped.truncated, skipped.other_format);
+    std::printf(
+        "skipped: %zu images of unsupported encodings, %zu truncated, %zu of another size or encoding than "
+        "the camera's first\n",
+        skipped.unsupported_encoding, skipped.truncated, skipped.other_format);
   }
   json report = scoreJson(main.evaluation);
   report["bag"] = o.bag;
@@ -562,10 +631,12 @@ int evaluateBag(const Options& o) {
   report["pattern"] = setup.patterns.name;
   report["stages"] = stageJson(main);
   if (setup.truth) sv::printScore(report);
-  std::printf("speed:  %.0f frames/s in-process (%.3f ms mean, p50 %.3f, p99 %.3f ms per frame), %lld global-search "
-              "frames, %lld in windows\n",
-              main.processed / main.seconds, mean(main.total), sv::percentile(main.total, 50),
-              sv::percentile(main.total, 99), static_cast<long long>(main.global), static_cast<long long>(main.windowed));
+  std::printf(
+      "speed:  %.0f frames/s in-process (%.3f ms mean, p50 %.3f, p99 %.3f ms per frame), %lld global-search "
+      "frames, %lld in windows\n",
+      main.processed / main.seconds, mean(main.total), sv::percentile(main.total, 50),
+      sv::percentile(main.total, 99), static_cast<long long>(main.global),
+      static_cast<long long>(main.windowed));
 
   if (o.table2) {
     sv::VisionPipelineParams whole = params;

@@ -24,13 +24,15 @@ constexpr PaperColumn kPaperTable1[] = {{3, 50, 20.15, 148, 7, 146, 5, 0.03, 0.9
                                         {2, 200, 30.18, 221, 9, 219, 7, 0.03, 0.97},
                                         {4, 200, 15.4, 111, 6, 109, 4, 0.035, 0.97}};
 const std::pair<const char*, const char*> kStages[] = {{"preprocessing", "Pretreatment (illumination)"},
-                                                        {"classification", "Pixel classification"},
-                                                        {"recognition_and_pose", "Recognition and pose"},
-                                                        {"tracking", "Target tracking (+ next windows)"},
-                                                        {"total", "Total"}};
-const std::map<std::string, std::pair<double, double>> kPaperTable2 = {
-    {"preprocessing", {17.3, 19.1}}, {"classification", {96.4, 107.4}}, {"recognition_and_pose", {15.0, 15.4}},
-    {"tracking", {0.5, 0.6}}, {"total", {130.2, 141.8}}};
+                                                       {"classification", "Pixel classification"},
+                                                       {"recognition_and_pose", "Recognition and pose"},
+                                                       {"tracking", "Target tracking (+ next windows)"},
+                                                       {"total", "Total"}};
+const std::map<std::string, std::pair<double, double>> kPaperTable2 = {{"preprocessing", {17.3, 19.1}},
+                                                                       {"classification", {96.4, 107.4}},
+                                                                       {"recognition_and_pose", {15.0, 15.4}},
+                                                                       {"tracking", {0.5, 0.6}},
+                                                                       {"total", {130.2, 141.8}}};
 
 std::string fmt(const char* format, double v) {
   char buffer[64];
@@ -46,21 +48,26 @@ void printScore(const json& j) {
   const json& r = j["robots"];
   const json& b = j["ball"];
   const json& a = j["all"];
-  std::printf("robots: detection %.3f %%, precision %.3f %% (%lld of %lld matched, %lld false), position RMSE %.2f mm, "
-              "heading RMSE %.2f deg\n",
-              100 * r["detection_rate"].get<double>(), 100 * r["precision"].get<double>(),
-              r["matched"].get<long long>(), r["truth"].get<long long>(), r["false_positives"].get<long long>(),
-              r["position_rmse_mm"].get<double>(), r["heading_rmse_deg"].get<double>());
-  std::printf("ball:   detection %.3f %%, precision %.3f %% (%lld of %lld matched, %lld false), position RMSE %.2f mm\n",
-              100 * b["detection_rate"].get<double>(), 100 * b["precision"].get<double>(),
-              b["matched"].get<long long>(), b["truth"].get<long long>(), b["false_positives"].get<long long>(),
-              b["position_rmse_mm"].get<double>());
-  std::printf("all:    detection %.3f %%, precision %.3f %%; identity switches %lld, identity errors %lld; "
-              "%lld frames scored, %lld failed, %lld without truth\n",
-              100 * a["detection_rate"].get<double>(), 100 * a["precision"].get<double>(),
-              j["identity_switches"].get<long long>(), j["identity_errors"].get<long long>(),
-              j["frames_scored"].get<long long>(), j["failed_frames"].get<long long>(),
-              j["frames_without_truth"].get<long long>());
+  std::printf(
+      "robots: detection %.3f %%, precision %.3f %% (%lld of %lld matched, %lld false), position RMSE %.2f "
+      "mm, "
+      "heading RMSE %.2f deg\n",
+      100 * r["detection_rate"].get<double>(), 100 * r["precision"].get<double>(),
+      r["matched"].get<long long>(), r["truth"].get<long long>(), r["false_positives"].get<long long>(),
+      r["position_rmse_mm"].get<double>(), r["heading_rmse_deg"].get<double>());
+  std::printf(
+      "ball:   detection %.3f %%, precision %.3f %% (%lld of %lld matched, %lld false), position RMSE %.2f "
+      "mm\n",
+      100 * b["detection_rate"].get<double>(), 100 * b["precision"].get<double>(),
+      b["matched"].get<long long>(), b["truth"].get<long long>(), b["false_positives"].get<long long>(),
+      b["position_rmse_mm"].get<double>());
+  std::printf(
+      "all:    detection %.3f %%, precision %.3f %%; identity switches %lld, identity errors %lld; "
+      "%lld frames scored, %lld failed, %lld without truth\n",
+      100 * a["detection_rate"].get<double>(), 100 * a["precision"].get<double>(),
+      j["identity_switches"].get<long long>(), j["identity_errors"].get<long long>(),
+      j["frames_scored"].get<long long>(), j["failed_frames"].get<long long>(),
+      j["frames_without_truth"].get<long long>());
 }
 
 void printTable2(const json& with, const json& without) {
@@ -74,41 +81,45 @@ void printTable2(const json& with, const json& without) {
 }
 
 void printTable1(const json& rows) {
-  std::printf("\nTable I: frame step x window side (paper, 30 fps video: 3-50 3-100 3-200 2-200 4-200 -> success "
-              "0.97 0.98 0.98 0.97 0.97)\n");
+  std::printf(
+      "\nTable I: frame step x window side (paper, 30 fps video: 3-50 3-100 3-200 2-200 4-200 -> success "
+      "0.97 0.98 0.98 0.97 0.97)\n");
   std::printf("  %-10s %9s %9s %9s %9s %7s %9s %9s %10s %10s\n", "step-R", "time [s]", "processed", "global",
               "windows", "failed", "fail rate", "success", "detection", "pred. RMSE");
   for (const json& r : rows) {
-    std::printf("  %-10s %9.3f %9lld %9lld %9lld %7lld %9.4f %9.4f %9.3f%% %7.1f mm\n",
-                (std::to_string(r["frame_step"].get<int>()) + "-" + std::to_string(r["window_side"].get<int>())).c_str(),
-                r["time_s"].get<double>(), r["processed_frames"].get<long long>(),
-                r["global_search_frames"].get<long long>(), r["window_frames"].get<long long>(),
-                r["failed_frames"].get<long long>(), r["failure_rate"].get<double>(), r["success_rate"].get<double>(),
-                100 * r["robot_detection_rate"].get<double>(), r["prediction_rmse_mm"].get<double>());
+    std::printf(
+        "  %-10s %9.3f %9lld %9lld %9lld %7lld %9.4f %9.4f %9.3f%% %7.1f mm\n",
+        (std::to_string(r["frame_step"].get<int>()) + "-" + std::to_string(r["window_side"].get<int>()))
+            .c_str(),
+        r["time_s"].get<double>(), r["processed_frames"].get<long long>(),
+        r["global_search_frames"].get<long long>(), r["window_frames"].get<long long>(),
+        r["failed_frames"].get<long long>(), r["failure_rate"].get<double>(), r["success_rate"].get<double>(),
+        100 * r["robot_detection_rate"].get<double>(), r["prediction_rmse_mm"].get<double>());
   }
 }
-
 
 std::string markdownReport(const json& report, const std::string& title) {
   std::ostringstream md;
   md << "### " << title << "\n\n";
   md << report["images"].get<long long>() << " images of " << report["cameras"].get<int>() << " camera(s) at "
-     << report["width"].get<int>() << "x" << report["height"].get<int>() << " " << report["encoding"].get<std::string>()
-     << ", pattern " << report["pattern"].get<std::string>() << "; frame step " << report["frame_step"].get<int>()
+     << report["width"].get<int>() << "x" << report["height"].get<int>() << " "
+     << report["encoding"].get<std::string>() << ", pattern " << report["pattern"].get<std::string>()
+     << "; frame step " << report["frame_step"].get<int>()
      << ", windows R = " << report["window_side"].get<int>() << " px"
-     << (report["search_windows"].get<bool>() ? "" : " (off)") << "; " << report["frames_processed"].get<long long>()
-     << " frames processed (" << report["global_search_frames"].get<long long>() << " searched whole).\n\n";
+     << (report["search_windows"].get<bool>() ? "" : " (off)") << "; "
+     << report["frames_processed"].get<long long>() << " frames processed ("
+     << report["global_search_frames"].get<long long>() << " searched whole).\n\n";
 
   const json& r = report["robots"];
   const json& b = report["ball"];
   const json& a = report["all"];
   md << "| | robots | ball | all | paper (all) |\n|---|---|---|---|---|\n";
-  md << "| detection rate | " << percent(r["detection_rate"]) << " | " << percent(b["detection_rate"]) << " | "
-     << percent(a["detection_rate"]) << " | 99.68 % |\n";
+  md << "| detection rate | " << percent(r["detection_rate"]) << " | " << percent(b["detection_rate"])
+     << " | " << percent(a["detection_rate"]) << " | 99.68 % |\n";
   md << "| precision | " << percent(r["precision"]) << " | " << percent(b["precision"]) << " | "
      << percent(a["precision"]) << " | 99.92 % |\n";
-  md << "| position RMSE | " << fmt("%.2f mm", r["position_rmse_mm"]) << " | " << fmt("%.2f mm", b["position_rmse_mm"])
-     << " | | |\n";
+  md << "| position RMSE | " << fmt("%.2f mm", r["position_rmse_mm"]) << " | "
+     << fmt("%.2f mm", b["position_rmse_mm"]) << " | | |\n";
   md << "| heading RMSE | " << fmt("%.2f°", r["heading_rmse_deg"]) << " | | | |\n";
   md << "| identity switches / errors | " << report["identity_switches"].get<long long>() << " / "
      << report["identity_errors"].get<long long>() << " | | | |\n";
@@ -124,8 +135,8 @@ std::string markdownReport(const json& report, const std::string& title) {
     md << "| stage | w/ windows | w/o windows | paper w/ | paper w/o |\n|---|---|---|---|---|\n";
     for (const auto& [key, label] : kStages) {
       const auto& paper = kPaperTable2.at(key);
-      md << "| " << label << " | " << fmt("%.3f", with[key]["mean_ms"]) << fmt(" (%.3f)", with[key]["p99_ms"]) << " | "
-         << fmt("%.3f", without[key]["mean_ms"]) << fmt(" (%.3f)", without[key]["p99_ms"]) << " | "
+      md << "| " << label << " | " << fmt("%.3f", with[key]["mean_ms"]) << fmt(" (%.3f)", with[key]["p99_ms"])
+         << " | " << fmt("%.3f", without[key]["mean_ms"]) << fmt(" (%.3f)", without[key]["p99_ms"]) << " | "
          << fmt("%.1f", paper.first) << " | " << fmt("%.1f", paper.second) << " |\n";
     }
     md << "\n";
@@ -133,7 +144,8 @@ std::string markdownReport(const json& report, const std::string& title) {
   if (report.contains("table1")) {
     md << "Table I, frame step × window side R (failed frame: any robot or ball in view missed, or a false "
           "positive):\n\n";
-    md << "| step-R | time [ms/frame] | processed | global | windows | failed | failure rate | success rate | "
+    md << "| step-R | time [ms/frame] | processed | global | windows | failed | failure rate | success rate "
+          "| "
           "robot detection | prediction RMSE | paper time [ms/frame] | paper failure / success |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json& row : report["table1"]) {
@@ -146,12 +158,13 @@ std::string markdownReport(const json& report, const std::string& title) {
         }
       }
       const double processed = row["processed_frames"].get<double>();
-      md << "| " << step << "-" << side << " | " << fmt("%.3f", processed > 0 ? 1e3 * row["time_s"].get<double>() / processed : 0.0)
-         << " | " << row["processed_frames"].get<long long>() << " | " << row["global_search_frames"].get<long long>()
-         << " | " << row["window_frames"].get<long long>() << " | " << row["failed_frames"].get<long long>() << " | "
-         << fmt("%.4f", row["failure_rate"]) << " | " << fmt("%.4f", row["success_rate"]) << " | "
-         << percent(row["robot_detection_rate"]) << " | " << fmt("%.1f mm", row["prediction_rmse_mm"]) << " | "
-         << paper_time << " | " << paper_rates << " |\n";
+      md << "| " << step << "-" << side << " | "
+         << fmt("%.3f", processed > 0 ? 1e3 * row["time_s"].get<double>() / processed : 0.0) << " | "
+         << row["processed_frames"].get<long long>() << " | " << row["global_search_frames"].get<long long>()
+         << " | " << row["window_frames"].get<long long>() << " | " << row["failed_frames"].get<long long>()
+         << " | " << fmt("%.4f", row["failure_rate"]) << " | " << fmt("%.4f", row["success_rate"]) << " | "
+         << percent(row["robot_detection_rate"]) << " | " << fmt("%.1f mm", row["prediction_rmse_mm"])
+         << " | " << paper_time << " | " << paper_rates << " |\n";
     }
     md << "\n";
   }

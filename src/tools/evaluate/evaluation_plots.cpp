@@ -19,22 +19,26 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const cv::Scalar kWhite(255, 255, 255);
-const cv::Scalar kCarpet(206, 232, 210);     // pale green
+const cv::Scalar kCarpet(206, 232, 210);  // pale green
 const cv::Scalar kGoal(110, 110, 110);
-const cv::Scalar kKeyColor(90, 90, 90);      // legend keys for line styles
+const cv::Scalar kKeyColor(90, 90, 90);  // legend keys for line styles
 const cv::Scalar kMedianColor(70, 70, 70);
-const cv::Scalar kP99Color(40, 40, 200);     // red
-const cv::Scalar kRmsColor(30, 30, 140);     // dark red
+const cv::Scalar kP99Color(40, 40, 200);  // red
+const cv::Scalar kRmsColor(30, 30, 140);  // dark red
 
-cv::Scalar fromRgb(int r, int g, int b) { return {static_cast<double>(b), static_cast<double>(g), static_cast<double>(r)}; }
+cv::Scalar fromRgb(int r, int g, int b) {
+  return {static_cast<double>(b), static_cast<double>(g), static_cast<double>(r)};
+}
 
 // Number in a legend: about three significant digits, no exponent for the usual magnitudes.
 std::string number(double v) {
   if (!std::isfinite(v)) return "n/a";
   char buf[32];
   const double a = std::abs(v);
-  if (a >= 1 || a == 0) std::snprintf(buf, sizeof buf, a >= 100 ? "%.0f" : (a >= 10 ? "%.1f" : "%.2f"), v);
-  else std::snprintf(buf, sizeof buf, "%.3g", v);
+  if (a >= 1 || a == 0)
+    std::snprintf(buf, sizeof buf, a >= 100 ? "%.0f" : (a >= 10 ? "%.1f" : "%.2f"), v);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g", v);
   return buf;
 }
 
@@ -91,19 +95,25 @@ std::string counted(size_t n, const std::string& singular, const std::string& pl
 
 std::string ordinal(int n) {
   const int tens = n % 100, units = n % 10;
-  const char* suffix = (tens >= 11 && tens <= 13) ? "th" : units == 1 ? "st" : units == 2 ? "nd" : units == 3 ? "rd" : "th";
+  const char* suffix = (tens >= 11 && tens <= 13) ? "th"
+                       : units == 1               ? "st"
+                       : units == 2               ? "nd"
+                       : units == 3               ? "rd"
+                                                  : "th";
   return std::to_string(n) + suffix;
 }
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
 void drawField(PlotCanvas& c, const FieldGeometry& f) {
   const double cx = f.halfLength() + f.boundary, cy = f.halfWidth() + f.boundary;
   c.addFilledPolygon({-cx, cx, cx, -cx}, {-cy, -cy, cy, cy}, kCarpet);
-  for (const LineSegment& l : f.lines()) c.addPolyline({l.a.x(), l.b.x()}, {l.a.y(), l.b.y()}, kWhite, "", LineStyle::Solid, 2);
+  for (const LineSegment& l : f.lines())
+    c.addPolyline({l.a.x(), l.b.x()}, {l.a.y(), l.b.y()}, kWhite, "", LineStyle::Solid, 2);
   for (const CircleArc& a : f.circles()) {
     std::vector<double> xs, ys;
     for (int i = 0; i <= 96; ++i) {
@@ -123,14 +133,14 @@ void drawField(PlotCanvas& c, const FieldGeometry& f) {
 
 cv::Scalar trajectoryColor(const std::string& team, int index) {
   static const std::vector<cv::Scalar> blue = {
-      fromRgb(31, 119, 180), fromRgb(8, 48, 107),  fromRgb(23, 160, 200), fromRgb(106, 61, 154),
-      fromRgb(79, 111, 208), fromRgb(14, 124, 123), fromRgb(58, 95, 143), fromRgb(140, 107, 177)};
+      fromRgb(31, 119, 180), fromRgb(8, 48, 107),   fromRgb(23, 160, 200), fromRgb(106, 61, 154),
+      fromRgb(79, 111, 208), fromRgb(14, 124, 123), fromRgb(58, 95, 143),  fromRgb(140, 107, 177)};
   static const std::vector<cv::Scalar> yellow = {
-      fromRgb(217, 160, 0),  fromRgb(179, 88, 6),  fromRgb(140, 109, 0), fromRgb(230, 97, 1),
+      fromRgb(217, 160, 0), fromRgb(179, 88, 6),  fromRgb(140, 109, 0), fromRgb(230, 97, 1),
       fromRgb(200, 180, 0), fromRgb(160, 82, 45), fromRgb(192, 138, 0), fromRgb(127, 59, 8)};
   static const std::vector<cv::Scalar> other = {
-      fromRgb(214, 39, 40), fromRgb(227, 119, 194), fromRgb(50, 50, 50), fromRgb(140, 86, 75),
-      fromRgb(188, 189, 34), fromRgb(44, 160, 44), fromRgb(127, 127, 127), fromRgb(255, 127, 14)};
+      fromRgb(214, 39, 40),  fromRgb(227, 119, 194), fromRgb(50, 50, 50),    fromRgb(140, 86, 75),
+      fromRgb(188, 189, 34), fromRgb(44, 160, 44),   fromRgb(127, 127, 127), fromRgb(255, 127, 14)};
   const std::string t = lower(team);
   const std::vector<cv::Scalar>& palette = t == "blue" ? blue : (t == "yellow" ? yellow : other);
   const int n = static_cast<int>(palette.size());
@@ -148,9 +158,9 @@ cv::Scalar predictionErrorColor() { return fromRgb(214, 39, 40); }
 
 cv::Scalar stageColor(int i) {
   static const std::vector<cv::Scalar> palette = {
-      fromRgb(31, 119, 180), fromRgb(255, 127, 14), fromRgb(44, 160, 44),  fromRgb(148, 103, 189),
-      fromRgb(140, 86, 75),  fromRgb(227, 119, 194), fromRgb(127, 127, 127), fromRgb(188, 189, 34),
-      fromRgb(23, 190, 207)};
+      fromRgb(31, 119, 180),  fromRgb(255, 127, 14), fromRgb(44, 160, 44),
+      fromRgb(148, 103, 189), fromRgb(140, 86, 75),  fromRgb(227, 119, 194),
+      fromRgb(127, 127, 127), fromRgb(188, 189, 34), fromRgb(23, 190, 207)};
   const int n = static_cast<int>(palette.size());
   return palette[static_cast<size_t>(((i % n) + n) % n)];
 }
@@ -190,8 +200,9 @@ cv::Mat renderTrajectories(const std::vector<TrajectorySeries>& series, const Fi
       for (auto [x, y] : {std::pair{s.truth_x[i], s.truth_y[i]}, std::pair{s.tracked_x[i], s.tracked_y[i]}})
         if (std::isfinite(x) && std::isfinite(y) && !field.onCarpet(x, y, margin)) ++off_field;
     }
-  c.setXLabel(off_field == 0 ? "x [m]"
-                             : "x [m]; " + counted(off_field, "position", "positions") + " beyond the carpet not shown");
+  c.setXLabel(off_field == 0
+                  ? "x [m]"
+                  : "x [m]; " + counted(off_field, "position", "positions") + " beyond the carpet not shown");
   c.setYLabel("y [m]");
   c.setEqualAspect(true);
   c.setLegendPosition(LegendPosition::OutsideRight);
@@ -271,8 +282,8 @@ void plotPositionError(const ErrorSeries& errors, const std::string& png_path) {
 // ---------------------------------------------------------------------------------------
 cv::Mat renderStageTimingHistogram(const StageTimes& times) {
   if (times.stage.size() != times.ms.size())
-    throw std::invalid_argument("stage timing plot: " + std::to_string(times.stage.size()) + " stage names but " +
-                                std::to_string(times.ms.size()) + " time series");
+    throw std::invalid_argument("stage timing plot: " + std::to_string(times.stage.size()) +
+                                " stage names but " + std::to_string(times.ms.size()) + " time series");
   const std::string title = "Processing time per frame and stage";
   if (times.stage.empty()) {
     PlotCanvas c(1000, 700);
@@ -309,7 +320,8 @@ cv::Mat renderStageTimingHistogram(const StageTimes& times) {
       }
       // Rice rule for the bin count, within bounds that keep bars readable; one bar centred
       // on the value when all times are the same.
-      int bins = std::clamp(static_cast<int>(std::lround(2 * std::cbrt(static_cast<double>(v.size())))), 8, 40);
+      int bins =
+          std::clamp(static_cast<int>(std::lround(2 * std::cbrt(static_cast<double>(v.size())))), 8, 40);
       if (hi - lo <= 1e-9 * std::max(1.0, std::abs(hi))) {
         const double half = std::max(0.05 * std::abs(lo), 0.001);
         lo -= half;
@@ -349,9 +361,10 @@ void plotStageTimingHistogram(const StageTimes& times, const std::string& png_pa
 cv::Mat renderPredictionError(const std::vector<PredictionErrorSeries>& series) {
   for (const PredictionErrorSeries& s : series) {
     if (s.frame_step < 1)
-      throw std::invalid_argument("prediction error plot: frame_step must be >= 1 (got " + std::to_string(s.frame_step) + ")");
-    requireLength("prediction error plot, frame step " + std::to_string(s.frame_step), "error_mm", s.error_mm.size(),
-                  s.t.size());
+      throw std::invalid_argument("prediction error plot: frame_step must be >= 1 (got " +
+                                  std::to_string(s.frame_step) + ")");
+    requireLength("prediction error plot, frame step " + std::to_string(s.frame_step), "error_mm",
+                  s.error_mm.size(), s.t.size());
   }
   const std::string title = "Kalman prediction error vs frame step";
   if (series.empty()) {
@@ -389,7 +402,8 @@ cv::Mat renderPredictionError(const std::vector<PredictionErrorSeries>& series) 
     const size_t predictions = finiteCount(s->error_mm);
     PlotCanvas c(pw, ph);
     const std::string step = std::to_string(s->frame_step);
-    c.setTitle("frame step " + step + (s->frame_step == 1 ? " (every frame)" : " (every " + ordinal(s->frame_step) + " frame)"));
+    c.setTitle("frame step " + step +
+               (s->frame_step == 1 ? " (every frame)" : " (every " + ordinal(s->frame_step) + " frame)"));
     c.setXLabel("time [s]");
     c.setYLabel("prediction error [mm]");
     if (any) {
@@ -401,7 +415,8 @@ cv::Mat renderPredictionError(const std::vector<PredictionErrorSeries>& series) 
     c.addPolyline(shifted(s->t, any ? t0 : 0.0), s->error_mm, predictionErrorColor(),
                   counted(predictions, "prediction", "predictions"), LineStyle::Solid, 1);
     if (predictions > 0) {
-      c.addPolyline({0, any ? t1 - t0 : 1.0}, {rms, rms}, kRmsColor, "RMS " + number(rms) + " mm", LineStyle::Dashed, 2);
+      c.addPolyline({0, any ? t1 - t0 : 1.0}, {rms, rms}, kRmsColor, "RMS " + number(rms) + " mm",
+                    LineStyle::Dashed, 2);
       summary_rms += (summary_rms.empty() ? "" : " / ") + number(rms);
       summary_steps += (summary_steps.empty() ? "" : " / ") + step;
     }
@@ -409,8 +424,8 @@ cv::Mat renderPredictionError(const std::vector<PredictionErrorSeries>& series) 
   }
   const bool several = summary_steps.find('/') != std::string::npos;
   return composeFigure(summary_rms.empty() ? title
-                                           : title + ": RMS " + summary_rms + " mm at step" + (several ? "s " : " ") +
-                                                 summary_steps,
+                                           : title + ": RMS " + summary_rms + " mm at step" +
+                                                 (several ? "s " : " ") + summary_steps,
                        panels, columns);
 }
 

@@ -37,7 +37,8 @@ constexpr int kLegendRow = 22, kLegendPad = 8, kLegendSample = 34, kLegendGap = 
 double notANumber() { return std::numeric_limits<double>::quiet_NaN(); }
 
 void normaliseRange(double& lo, double& hi) {
-  if (!std::isfinite(lo) || !std::isfinite(hi)) throw std::invalid_argument("plot: axis range ends must be finite");
+  if (!std::isfinite(lo) || !std::isfinite(hi))
+    throw std::invalid_argument("plot: axis range ends must be finite");
   if (lo > hi) std::swap(lo, hi);
   if (hi - lo <= 1e-12 * std::max(std::abs(lo), std::abs(hi))) {
     const double centre = 0.5 * (lo + hi), half = std::max(0.05 * std::abs(centre), 0.5);
@@ -68,8 +69,10 @@ bool clipSegment(cv::Point2d& a, cv::Point2d& b, double x0, double y0, double x1
       continue;
     }
     const double t = q[i] / p[i];
-    if (p[i] < 0) t0 = std::max(t0, t);
-    else t1 = std::min(t1, t);
+    if (p[i] < 0)
+      t0 = std::max(t0, t);
+    else
+      t1 = std::min(t1, t);
     if (t0 > t1) return false;
   }
   const cv::Point2d start = a;
@@ -78,7 +81,8 @@ bool clipSegment(cv::Point2d& a, cv::Point2d& b, double x0, double y0, double x1
   return true;
 }
 
-void drawSegment(cv::Mat& img, const cv::Point2d& a, const cv::Point2d& b, const cv::Scalar& color, int thickness) {
+void drawSegment(cv::Mat& img, const cv::Point2d& a, const cv::Point2d& b, const cv::Scalar& color,
+                 int thickness) {
   cv::line(img, toFixed(a), toFixed(b), color, thickness, cv::LINE_AA, kShift);
 }
 
@@ -176,7 +180,8 @@ std::vector<double> niceTicks(double lo, double hi, int max_ticks) {
 }
 
 double niceTickStep(double lo, double hi, int max_ticks) {
-  if (max_ticks < 2) throw std::invalid_argument("niceTicks: max_ticks must be >= 2 (got " + std::to_string(max_ticks) + ")");
+  if (max_ticks < 2)
+    throw std::invalid_argument("niceTicks: max_ticks must be >= 2 (got " + std::to_string(max_ticks) + ")");
   normaliseRange(lo, hi);
   const double raw = (hi - lo) / (max_ticks - 1);
   // Start a decade below the raw step: alignment can let a slightly smaller step fit.
@@ -204,7 +209,8 @@ std::string formatTick(double value, double step) {
   for (double scaled = step; decimals < 15; ++decimals, scaled *= 10)
     if (std::abs(scaled - std::round(scaled)) <= 1e-6 * scaled) break;
   if (decimals > 5 || std::abs(value) >= 1e6) {
-    const int digits = static_cast<int>(std::floor(std::log10(std::abs(value))) - std::floor(std::log10(step))) + 1;
+    const int digits =
+        static_cast<int>(std::floor(std::log10(std::abs(value))) - std::floor(std::log10(step))) + 1;
     std::snprintf(buf, sizeof buf, "%.*g", std::clamp(digits, 1, 15), value);
   } else {
     std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
@@ -220,21 +226,22 @@ PlotCanvas::PlotCanvas(int width_px, int height_px)
       y_fixed_lo_(notANumber()),
       y_fixed_hi_(notANumber()) {
   if (width_px < 200 || height_px < 150)
-    throw std::invalid_argument("PlotCanvas: size " + std::to_string(width_px) + "x" + std::to_string(height_px) +
-                                " is below 200x150");
+    throw std::invalid_argument("PlotCanvas: size " + std::to_string(width_px) + "x" +
+                                std::to_string(height_px) + " is below 200x150");
 }
 
 namespace {
 void checkFixedRange(const char* axis, double lo, double hi) {
-  if (std::isinf(lo) || std::isinf(hi)) throw std::invalid_argument(std::string("PlotCanvas: ") + axis + " range must not be infinite");
+  if (std::isinf(lo) || std::isinf(hi))
+    throw std::invalid_argument(std::string("PlotCanvas: ") + axis + " range must not be infinite");
   if (!std::isnan(lo) && !std::isnan(hi) && lo >= hi)
     throw std::invalid_argument(std::string("PlotCanvas: ") + axis + " range " + std::to_string(lo) + " .. " +
                                 std::to_string(hi) + " is empty");
 }
 void checkSameLength(const char* what, size_t a, size_t b) {
   if (a != b)
-    throw std::invalid_argument(std::string("PlotCanvas::") + what + ": " + std::to_string(a) + " x values but " +
-                                std::to_string(b) + " y values");
+    throw std::invalid_argument(std::string("PlotCanvas::") + what + ": " + std::to_string(a) +
+                                " x values but " + std::to_string(b) + " y values");
 }
 }  // namespace
 
@@ -250,23 +257,27 @@ void PlotCanvas::setYRange(double lo, double hi) {
   y_fixed_hi_ = hi;
 }
 
-void PlotCanvas::addPolyline(const std::vector<double>& xs, const std::vector<double>& ys, const cv::Scalar& color,
-                             const std::string& label, LineStyle style, int thickness) {
+void PlotCanvas::addPolyline(const std::vector<double>& xs, const std::vector<double>& ys,
+                             const cv::Scalar& color, const std::string& label, LineStyle style,
+                             int thickness) {
   checkSameLength("addPolyline", xs.size(), ys.size());
-  series_.push_back({Series::Kind::Polyline, xs, ys, color, label, style, std::clamp(thickness, 1, 20), {}, 0});
+  series_.push_back(
+      {Series::Kind::Polyline, xs, ys, color, label, style, std::clamp(thickness, 1, 20), {}, 0});
 }
 
-void PlotCanvas::addScatter(const std::vector<double>& xs, const std::vector<double>& ys, const cv::Scalar& color,
-                            const std::string& label, int radius) {
+void PlotCanvas::addScatter(const std::vector<double>& xs, const std::vector<double>& ys,
+                            const cv::Scalar& color, const std::string& label, int radius) {
   checkSameLength("addScatter", xs.size(), ys.size());
-  series_.push_back({Series::Kind::Scatter, xs, ys, color, label, LineStyle::Solid, std::clamp(radius, 1, 30), {}, 0});
+  series_.push_back(
+      {Series::Kind::Scatter, xs, ys, color, label, LineStyle::Solid, std::clamp(radius, 1, 30), {}, 0});
 }
 
-void PlotCanvas::addBars(const std::vector<double>& edges, const std::vector<double>& counts, const cv::Scalar& color,
-                         const std::string& label) {
+void PlotCanvas::addBars(const std::vector<double>& edges, const std::vector<double>& counts,
+                         const cv::Scalar& color, const std::string& label) {
   if (edges.size() != counts.size() + 1)
     throw std::invalid_argument("PlotCanvas::addBars: " + std::to_string(counts.size()) + " bars need " +
-                                std::to_string(counts.size() + 1) + " edges, got " + std::to_string(edges.size()));
+                                std::to_string(counts.size() + 1) + " edges, got " +
+                                std::to_string(edges.size()));
   series_.push_back({Series::Kind::Bars, edges, counts, color, label, LineStyle::Solid, 1, {}, 0});
 }
 
@@ -277,11 +288,14 @@ void PlotCanvas::addFilledPolygon(const std::vector<double>& xs, const std::vect
 }
 
 void PlotCanvas::addText(double x, double y, const std::string& text, const cv::Scalar& color, double scale) {
-  series_.push_back({Series::Kind::Text, {x}, {y}, color, "", LineStyle::Solid, 1, text, std::clamp(scale, 0.2, 3.0)});
+  series_.push_back(
+      {Series::Kind::Text, {x}, {y}, color, "", LineStyle::Solid, 1, text, std::clamp(scale, 0.2, 3.0)});
 }
 
-void PlotCanvas::addLegendEntry(const std::string& label, const cv::Scalar& color, LineStyle style, int thickness) {
-  series_.push_back({Series::Kind::LegendOnly, {}, {}, color, label, style, std::clamp(thickness, 1, 20), {}, 0});
+void PlotCanvas::addLegendEntry(const std::string& label, const cv::Scalar& color, LineStyle style,
+                                int thickness) {
+  series_.push_back(
+      {Series::Kind::LegendOnly, {}, {}, color, label, style, std::clamp(thickness, 1, 20), {}, 0});
 }
 
 bool PlotCanvas::hasData() const {
@@ -339,9 +353,12 @@ void resolveAxis(double fixed_lo, double fixed_hi, double data_lo, double data_h
     hi = lo + std::max(0.1 * std::abs(lo), 1.0);
   }
   if (hi <= lo) {  // all data at one value, or a fixed end beyond the data
-    if (auto_lo && auto_hi) normaliseRange(lo, hi);
-    else if (auto_hi) hi = lo + std::max(0.1 * std::abs(lo), 1.0);
-    else lo = hi - std::max(0.1 * std::abs(hi), 1.0);
+    if (auto_lo && auto_hi)
+      normaliseRange(lo, hi);
+    else if (auto_hi)
+      hi = lo + std::max(0.1 * std::abs(lo), 1.0);
+    else
+      lo = hi - std::max(0.1 * std::abs(hi), 1.0);
   }
   const double pad = 0.04 * (hi - lo);
   if (auto_lo) lo -= pad;
@@ -369,7 +386,8 @@ cv::Size PlotCanvas::legendSize() const {
   const int columns = (entries + rows_fit - 1) / rows_fit;
   const int rows = (entries + columns - 1) / columns;
   const int column_width = kLegendSample + kLegendGap + widest;
-  return {2 * kLegendPad + columns * column_width + (columns - 1) * kLegendColumnGap, 2 * kLegendPad + rows * kLegendRow};
+  return {2 * kLegendPad + columns * column_width + (columns - 1) * kLegendColumnGap,
+          2 * kLegendPad + rows * kLegendRow};
 }
 
 PlotCanvas::Layout PlotCanvas::layout() const {
@@ -425,14 +443,23 @@ PlotCanvas::Layout PlotCanvas::layout() const {
     const int inset = 10;
     cv::Point at;
     switch (legend_position_) {
-      case LegendPosition::TopRight: at = {p.x + p.width - legend.width - inset, p.y + inset}; break;
-      case LegendPosition::TopLeft: at = {p.x + inset, p.y + inset}; break;
+      case LegendPosition::TopRight:
+        at = {p.x + p.width - legend.width - inset, p.y + inset};
+        break;
+      case LegendPosition::TopLeft:
+        at = {p.x + inset, p.y + inset};
+        break;
       case LegendPosition::BottomRight:
         at = {p.x + p.width - legend.width - inset, p.y + p.height - legend.height - inset};
         break;
-      case LegendPosition::BottomLeft: at = {p.x + inset, p.y + p.height - legend.height - inset}; break;
-      case LegendPosition::OutsideRight: at = {p.x + p.width + 12, p.y}; break;
-      case LegendPosition::None: break;
+      case LegendPosition::BottomLeft:
+        at = {p.x + inset, p.y + p.height - legend.height - inset};
+        break;
+      case LegendPosition::OutsideRight:
+        at = {p.x + p.width + 12, p.y};
+        break;
+      case LegendPosition::None:
+        break;
     }
     l.legend = cv::Rect(at, legend);
   }
@@ -474,8 +501,8 @@ cv::Mat PlotCanvas::render() const {
 
 void PlotCanvas::renderInto(cv::Mat& target) const {
   if (target.type() != CV_8UC3 || target.cols != width_ || target.rows != height_)
-    throw std::invalid_argument("PlotCanvas::renderInto: target must be CV_8UC3 of " + std::to_string(width_) + "x" +
-                                std::to_string(height_));
+    throw std::invalid_argument("PlotCanvas::renderInto: target must be CV_8UC3 of " +
+                                std::to_string(width_) + "x" + std::to_string(height_));
   target.setTo(kWhite);
   const Layout l = layout();
   if (grid_) {
@@ -495,7 +522,8 @@ void PlotCanvas::renderInto(cv::Mat& target) const {
   const std::string note = !note_.empty() ? note_ : (hasData() ? "" : "no data");
   if (!note.empty()) {
     const double scale = fittingScale(note, kNoteScale, 2, l.plot.width - 20);
-    putCentred(target, note, {l.plot.x + l.plot.width / 2, l.plot.y + l.plot.height / 2 + 10}, scale, kNoteColor, 2);
+    putCentred(target, note, {l.plot.x + l.plot.width / 2, l.plot.y + l.plot.height / 2 + 10}, scale,
+               kNoteColor, 2);
   }
   drawLegend(target, l);
 }
@@ -518,7 +546,8 @@ void PlotCanvas::drawSeries(cv::Mat& img, const Layout& l) const {
             // nothing visible but drawing time (long runs at 60 Hz); a run's ends are kept.
             const cv::Point2d p = m(s.xs[i], s.ys[i]);
             const bool run_ends = i + 1 >= s.xs.size() || !finitePair(s.xs[i + 1], s.ys[i + 1]);
-            if (!run.empty() && !run_ends && std::hypot(p.x - run.back().x, p.y - run.back().y) < min_step) continue;
+            if (!run.empty() && !run_ends && std::hypot(p.x - run.back().x, p.y - run.back().y) < min_step)
+              continue;
             run.push_back(p);
             continue;
           }
@@ -531,14 +560,17 @@ void PlotCanvas::drawSeries(cv::Mat& img, const Layout& l) const {
         for (size_t i = 0; i < s.xs.size(); ++i) {
           if (!finitePair(s.xs[i], s.ys[i])) continue;
           const cv::Point2d p = m(s.xs[i], s.ys[i]);
-          if (p.x < -s.size || p.y < -s.size || p.x > area.cols + s.size || p.y > area.rows + s.size) continue;
-          cv::circle(area, toFixed(p), static_cast<int>(s.size * kSubPixel), s.color, cv::FILLED, cv::LINE_AA, kShift);
+          if (p.x < -s.size || p.y < -s.size || p.x > area.cols + s.size || p.y > area.rows + s.size)
+            continue;
+          cv::circle(area, toFixed(p), static_cast<int>(s.size * kSubPixel), s.color, cv::FILLED, cv::LINE_AA,
+                     kShift);
         }
         break;
       case Series::Kind::Bars: {
         const double base = std::clamp(m(0, std::max(0.0, l.y_lo)).y, -1.0, area.rows + 1.0);
         for (size_t i = 0; i < s.ys.size(); ++i) {
-          if (!std::isfinite(s.xs[i]) || !std::isfinite(s.xs[i + 1]) || !std::isfinite(s.ys[i]) || s.ys[i] == 0)
+          if (!std::isfinite(s.xs[i]) || !std::isfinite(s.xs[i + 1]) || !std::isfinite(s.ys[i]) ||
+              s.ys[i] == 0)
             continue;
           const cv::Point2d a = clampPx(m(s.xs[i], s.ys[i])), b = clampPx(m(s.xs[i + 1], 0));
           const int x0 = static_cast<int>(std::lround(std::min(a.x, b.x)));
@@ -565,11 +597,12 @@ void PlotCanvas::drawSeries(cv::Mat& img, const Layout& l) const {
         const cv::Point2d p = clampPx(m(s.xs[0], s.ys[0]));
         int base = 0;
         const cv::Size ts = cv::getTextSize(s.text, kFont, s.scale, 1, &base);
-        cv::putText(area, s.text, cv::Point(static_cast<int>(p.x), static_cast<int>(p.y) + ts.height / 2), kFont,
-                    s.scale, s.color, 1, cv::LINE_AA);
+        cv::putText(area, s.text, cv::Point(static_cast<int>(p.x), static_cast<int>(p.y) + ts.height / 2),
+                    kFont, s.scale, s.color, 1, cv::LINE_AA);
         break;
       }
-      case Series::Kind::LegendOnly: break;
+      case Series::Kind::LegendOnly:
+        break;
     }
   }
 }
@@ -583,23 +616,24 @@ void PlotCanvas::drawAxes(cv::Mat& img, const Layout& l) const {
   for (double t : l.x_ticks) {
     const double x = m(t, l.y_lo).x + p.x;
     drawSegment(img, {x, p.y + p.height + 0.0}, {x, p.y + p.height + 5.0}, kFrameColor, 1);
-    putCentred(img, formatTick(t, l.x_step), {static_cast<int>(std::lround(x)), p.y + p.height + 22}, kTickScale,
-               kTextColor, 1);
+    putCentred(img, formatTick(t, l.x_step), {static_cast<int>(std::lround(x)), p.y + p.height + 22},
+               kTickScale, kTextColor, 1);
   }
   for (double t : l.y_ticks) {
     const double y = m(l.x_lo, t).y + p.y;
     drawSegment(img, {p.x - 6.0, y}, {p.x - 1.0, y}, kFrameColor, 1);
     const std::string label = formatTick(t, l.y_step);
     const cv::Size s = cv::getTextSize(label, kFont, kTickScale, 1, &base);
-    cv::putText(img, label, cv::Point(p.x - 10 - s.width, static_cast<int>(std::lround(y)) + s.height / 2), kFont,
-                kTickScale, kTextColor, 1, cv::LINE_AA);
+    cv::putText(img, label, cv::Point(p.x - 10 - s.width, static_cast<int>(std::lround(y)) + s.height / 2),
+                kFont, kTickScale, kTextColor, 1, cv::LINE_AA);
   }
   if (!x_label_.empty()) {
     const double scale = fittingScale(x_label_, kAxisLabelScale, 1, p.width);
     putCentred(img, x_label_, {p.x + p.width / 2, p.y + p.height + 50}, scale, kTextColor, 1);
   }
   if (!y_label_.empty())
-    putVertical(img, y_label_, {16, p.y + p.height / 2}, fittingScale(y_label_, kAxisLabelScale, 1, p.height));
+    putVertical(img, y_label_, {16, p.y + p.height / 2},
+                fittingScale(y_label_, kAxisLabelScale, 1, p.height));
   if (!title_.empty()) {
     const double scale = fittingScale(title_, kTitleScale, 2, width_ - 20);
     int centre = p.x + p.width / 2;
@@ -630,7 +664,8 @@ void PlotCanvas::drawLegend(cv::Mat& img, const Layout& l) const {
     switch (s.kind) {
       case Series::Kind::Scatter:
         cv::circle(img, toFixed({x + kLegendSample / 2.0, static_cast<double>(cy)}),
-                   static_cast<int>(std::min(s.size, 7) * kSubPixel), s.color, cv::FILLED, cv::LINE_AA, kShift);
+                   static_cast<int>(std::min(s.size, 7) * kSubPixel), s.color, cv::FILLED, cv::LINE_AA,
+                   kShift);
         break;
       case Series::Kind::Bars:
       case Series::Kind::Polygon: {
@@ -648,8 +683,8 @@ void PlotCanvas::drawLegend(cv::Mat& img, const Layout& l) const {
     }
     int base = 0;
     const cv::Size ts = cv::getTextSize(s.label, kFont, kLegendScale, 1, &base);
-    cv::putText(img, s.label, cv::Point(x + kLegendSample + kLegendGap, cy + ts.height / 2), kFont, kLegendScale,
-                kTextColor, 1, cv::LINE_AA);
+    cv::putText(img, s.label, cv::Point(x + kLegendSample + kLegendGap, cy + ts.height / 2), kFont,
+                kLegendScale, kTextColor, 1, cv::LINE_AA);
   }
 }
 
@@ -657,12 +692,14 @@ void writePng(const cv::Mat& img, const std::string& png_path) {
   std::string extension = std::filesystem::path(png_path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension != ".png") throw std::runtime_error("cannot write plot '" + png_path + "': the name must end in .png");
+  if (extension != ".png")
+    throw std::runtime_error("cannot write plot '" + png_path + "': the name must end in .png");
   if (img.empty()) throw std::runtime_error("cannot write plot '" + png_path + "': empty image");
   const std::filesystem::path dir = std::filesystem::path(png_path).parent_path();
   std::error_code ec;
   if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-    throw std::runtime_error("cannot write plot '" + png_path + "': directory '" + dir.string() + "' does not exist");
+    throw std::runtime_error("cannot write plot '" + png_path + "': directory '" + dir.string() +
+                             "' does not exist");
   bool written = false;
   try {
     written = cv::imwrite(png_path, img, {cv::IMWRITE_PNG_COMPRESSION, 9});  // figures are kept in docs/

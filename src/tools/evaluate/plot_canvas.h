@@ -92,9 +92,9 @@ class PlotCanvas {
     cv::Scalar color;
     std::string label;
     LineStyle style = LineStyle::Solid;
-    int size = 2;       // thickness or radius
-    std::string text;   // Text
-    double scale = 0;   // Text font scale
+    int size = 2;      // thickness or radius
+    std::string text;  // Text
+    double scale = 0;  // Text font scale
   };
   struct Layout {
     cv::Rect plot;

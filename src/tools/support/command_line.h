@@ -23,9 +23,9 @@ std::vector<std::string> splitList(const std::string& text, char separator = ','
 class CommandLine {
  public:
   CommandLine(int argc, char** argv) : argc_(argc), argv_(argv) {}
-  bool next();                          // moves to the next flag; false after the last
+  bool next();  // moves to the next flag; false after the last
   const std::string& flag() const { return flag_; }
-  std::string value();                  // the argument after the flag; throws when there is none
+  std::string value();  // the argument after the flag; throws when there is none
   double number() { return parseNumber(flag_, value()); }
   int integer(int min = INT_MIN, int max = INT_MAX) { return parseInteger(flag_, value(), min, max); }
   std::vector<std::string> list() { return splitList(value()); }
