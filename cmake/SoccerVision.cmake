@@ -57,13 +57,27 @@ function(sv_integration_test name)
   _sv_test_setup(${name} ${ARGN})
 endfunction()
 
+# sv_unit_test_script(<name> SCRIPT <file>): a fast test written as an executable script that
+# takes --gtest_output=xml:FILE as the gtests do; run by scripts/test --fast and by scripts/test.
+set_property(GLOBAL PROPERTY SV_UNIT_TEST_SCRIPTS "")
+function(sv_unit_test_script name)
+  cmake_parse_arguments(A "" "SCRIPT" "" ${ARGN})
+  set(results ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/script-${name}.xml)
+  catkin_run_tests_target("script" ${name} "script-${name}.xml" COMMAND "${A_SCRIPT} --gtest_output=xml:${results}")
+  set_property(GLOBAL APPEND PROPERTY SV_UNIT_TEST_SCRIPTS ${A_SCRIPT})
+endfunction()
+
 # After every test is declared: the `unit_tests` target and the list scripts/test --fast runs.
 function(sv_write_unit_test_list)
   get_property(tests GLOBAL PROPERTY SV_UNIT_TESTS)
+  get_property(scripts GLOBAL PROPERTY SV_UNIT_TEST_SCRIPTS)
   add_custom_target(unit_tests DEPENDS ${tests})
   set(lines "")
   foreach(t ${tests})
     string(APPEND lines "$<TARGET_FILE:${t}>\n")
+  endforeach()
+  foreach(s ${scripts})
+    string(APPEND lines "${s}\n")
   endforeach()
   file(GENERATE OUTPUT ${CMAKE_BINARY_DIR}/unit_tests.txt CONTENT "${lines}")
 endfunction()

@@ -23,6 +23,7 @@ DEBIAN_PACKAGES=(
 )
 DEBIAN_PACKAGES+=( libaravis-dev aravis-tools libopencv-videoio-dev pkg-config libglib2.0-dev linux-libc-dev )
 DEBIAN_PACKAGES+=( libx11-dev )  # the rviz screenshot test reads the X display
+DEBIAN_PACKAGES+=( python3-yaml )  # scripts/nodelet_docs and test/docs read cfg/*.params.yaml
 
 install_missing() {
   local missing=()

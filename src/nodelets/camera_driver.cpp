@@ -1,91 +1,8 @@
-// soccer_vision/CameraDriver: captures frames from a pluggable FrameSource (parameter
-// `source`) on its own thread and publishes them with their camera_info, plus the ground
-// truth when the source knows it (synthetic). A thin adapter: all capture/simulation logic
-// lives in the source (src/sources/).
-//
-// Parameters (private namespace ~):
-//   source            string  "synthetic"  Frame source back-end (see frameSourceNames()).
-//   camera_id         int     0            Camera number n: picks the synthetic camera (0 over
-//                                          x < 0, 1 over x > 0), fills camera_id in the ground
-//                                          truth and names the default frames.
-//   frame_id          string  "camera_<n>_optical"  Optical frame of image_raw/camera_info.
-//   camera_name       string  "camera_<n>" Name in camera_info_manager calibration files.
-//   camera_info_url   string  ""           camera_info_manager URL (file://, package://). Empty:
-//                                          the source's true intrinsics and plumb_bob
-//                                          distortion (synthetic), else camera_info_manager's
-//                                          default ${ROS_HOME}/camera_info/<camera_name>.yaml.
-//                                          A URL that fails to load, or is for another
-//                                          resolution, logs an error (repeated every 60 s) and
-//                                          falls back to the true calibration (synthetic) or
-//                                          an uncalibrated camera_info (size only).
-//                                          set_camera_info replaces it at run time.
-//   scenario          string  ""           Synthetic: scenario preset name (config/scenarios/
-//                                          NAME.yaml) or YAML path; empty = the
-//                                          embedded default. A file that fails to load logs an
-//                                          error (repeated every 60 s) and the default is used.
-//   fps               double  scenario fps Frame rate [Hz] (also dynamic_reconfigure). Unset:
-//                                          the source's native rate (scenario fps).
-//   width, height     int     0            Resolution override [px]; 0 = the scenario's.
-//   brightness        double  scenario     Synthetic, dynamic_reconfigure: global light gain.
-//   noise_sigma       double  scenario     Synthetic, dynamic_reconfigure: sensor noise std-dev
-//                                          [8-bit units].
-//   flicker           double  scenario     Synthetic, dynamic_reconfigure: per-frame gain
-//                                          std-dev (relative).
-//   epoch             double  0            Synthetic: Unix time [s] of frame 0 (scene time 0).
-//                                          0 = shared through `epoch_param`.
-//   epoch_param       string  "/soccer_vision/synthetic_epoch"  Global parameter through which
-//                                          synthetic drivers share one epoch, so cameras 0 and
-//                                          1 show the same game at the same stamps: the first
-//                                          driver sets it to the current second, later ones
-//                                          reuse it (if under 1 h old). "" = each driver starts
-//                                          its own game at its start.
-//   Source settings (FrameSourceOptions::settings; each source reads its own, see the
-//   source headers and the README's "Live cameras"):
-//   device            string  "/dev/video0" v4l2: device path.
-//   file              string  ""           video: file path.
-//   path              string  ""           images: folder or glob pattern.
-//   loop              bool    false        video, images: start over at the end (else the
-//                                          driver stops publishing at the end of the file).
-//   realtime          bool    true         video, images: paced at the file rate / fps;
-//                                          false = as fast as possible.
-//   encoding          string  "bgr8"       images: bgr8, mono8, bayer_*8 (raw single-channel).
-//   pixel_format      string  ""           v4l2 (YUYV, MJPG, RGB3, GREY, RGGB, ...), aravis
-//                                          (GenICam: BayerRG8, Mono8, RGB8, ...); "" = auto
-//                                          (v4l2) or the camera's current (aravis).
-//   camera            string  ""           aravis: device id, serial or IP; "" = first found.
-//   packet_size       int     0            aravis GigE: bytes; 0 = negotiate, -1 = leave.
-//   buffers           int     4 / 8        v4l2 mmap / aravis stream buffers.
-//   stamp_delay       double  0            [s] v4l2, aravis: subtracted from the stamps
-//                                          (receive or end-of-frame time -> exposure start).
-//   frame_timeout     double  5            [s] aravis: no frame for this long = error (re-open).
-//   exposure          double  camera's     v4l2, aravis, dynamic_reconfigure: exposure [µs].
-//   gain              double  camera's     v4l2 (driver units), aravis (camera units, usually
-//                                          dB), dynamic_reconfigure.
-//   debug_report_data_pointer bool false   Publish debug/published_address (zero-copy tests).
-//   retry_period      double  2.0          [s] between attempts to (re)open a failing source.
-//   tf_period         double  2.0          [s] between re-sends of the static tf (see below);
-//                                          0 = send once.
-//   diagnostic_period double  1.0          [s] (diagnostic_updater's own parameter).
-//
-// Published (node namespace, e.g. /camera_0/):
-//   image_raw              sensor_msgs/Image        Frames (+ image_transport plugins), stamp =
-//                                                   capture time, frame_id = ~frame_id.
-//   camera_info            sensor_msgs/CameraInfo   Same stamp and frame_id as each image.
-//   ground_truth/robots    soccer_vision/RobotPoseArray  Synthetic: every robot, frame_id "field",
-//                                                   image stamp, visible = fully in this image,
-//                                                   confidence 1, camera_id.
-//   ground_truth/balls     soccer_vision/BallPoseArray   Synthetic: every ball, likewise.
-//   ground_truth/ball      soccer_vision/BallPose        Synthetic: the first ball.
-//   /tf_static             field -> ~frame_id, the synthetic camera's true pose (re-sent every
-//                          tf_period: static broadcasters of one process share a latched
-//                          publisher, so a late subscriber would otherwise see only the last
-//                          one sent; the broadcaster is shared by all drivers of a manager).
-//   /diagnostics           image_raw rate (FrequencyStatus) and stamp age (TimeStampStatus),
-//                          source state (open, errors, dropped frames) and the source's own
-//                          statistics (FrameSource::statistics: aravis stream counters, ...).
-//   debug/published_address std_msgs/UInt64MultiArray  Only with debug_report_data_pointer:
-//                          [stamp.sec, stamp.nsec, address of the published pixel buffer].
-// Services: set_camera_info (camera_info_manager), ~set_parameters (dynamic_reconfigure).
+// soccer_vision/CameraDriver: captures frames from a pluggable FrameSource (parameter `source`,
+// src/sources/) on a thread of its own and publishes each with its camera_info, and the ground
+// truth when the source knows it (synthetic). A thin adapter: capture and simulation live in
+// the sources. Parameters, topics and services: docs/nodelets.md, generated from
+// cfg/CameraDriver.cfg and cfg/CameraDriver.params.yaml.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -525,6 +442,7 @@ void CameraDriverNodelet::publishFrame(const sensor_msgs::ImagePtr& image, const
     ++frames_published_;
   }
   if (info.ground_truth) publishGroundTruth(header, info);
+  // Re-sent: another static broadcaster of this process may replace the latched message.
   if (tf_period_ > 0 && (ros::WallTime::now() - last_tf_sent_).toSec() >= tf_period_) sendStaticTf();
   // Degraded operation (logged when it started) is repeated every kReminderPeriod.
   const ros::WallTime now = ros::WallTime::now();

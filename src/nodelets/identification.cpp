@@ -1,39 +1,8 @@
-// soccer_vision/Identification: blobs of one camera -> robots and ball candidates on the
-// field (paper §III-D). A thin adapter over the core's FrameIdentifier: it builds the
-// camera model from camera_info (intrinsics, distortion) and the camera pose, and turns
-// each BlobArray into one CameraDetections with the image's capture stamp.
-//
-// Parameters (private namespace ~; (dr) = also dynamic_reconfigure, cfg/Identification.cfg):
-//   camera_id         int     0       Camera number n (CameraDetections.camera_id); blobs of
-//                                     another camera_id are dropped with an error.
-//   pattern           string  "two_tag"  Marker pattern set: two_tag, ssl, team_only or a YAML
-//                                     path (config/patterns/). A bad file logs an error and
-//                                     keeps the previous pattern (two_tag at start-up).
-//   camera_pose       string  ""      camera_pose.yaml of calibrate_field. Empty: the pose
-//                                     comes from tf (field_frame -> the image's optical frame,
-//                                     e.g. the synthetic driver's true pose). Given: it is used
-//                                     and published as the static tf field_frame -> optical
-//                                     frame; intrinsics of another resolution/focal length
-//                                     are refused (error, frames dropped). Read with the first
-//                                     frame; while missing or invalid, retried every frame.
-//   field_frame       string  "field"
-//   marker_gate       double  0.020   (dr) [m] max distance of a marker from where the fitted
-//                                     pose puts it.
-//   area_ratio_gate   double  3.5     (dr) observed / expected marker area within [1/g, g].
-//   axis_weight       double  0.25    (dr) share of the team tag's axis in a two-tag heading.
-//   axis_weight_mosaic double 0.6     (dr) the same for blobs of a Bayer mosaic (BlobArray
-//                                     mosaic: the id markers' centroids on 2x2 quads are biased).
-//   min_confidence    double  0.05    (dr) robots below are not reported.
-//   max_missing_markers int   1       (dr) id markers a robot may lack (SSL pattern).
-//   report_unidentified bool  false   (dr) report team markers without an id (id 255).
-//   ball_area_ratio_min, ball_area_ratio_max double 0.3, 3.0  (dr) plausible ball area range.
-//   ball_field_margin double  0.10    (dr) [m] ball candidates beyond the carpet are dropped.
-//   max_ball_candidates int   4       (dr) best first; 0 = all.
-//
-// Subscribed (camera namespace): blobs (soccer_vision/BlobArray), camera_info.
-// Published (camera namespace): detections (soccer_vision/CameraDetections), header stamp =
-//   the image's capture stamp, frame "field"; /tf_static (camera_pose given);
-//   /diagnostics: rate, processing time, robots and balls per frame, drops by cause.
+// soccer_vision/Identification: blobs of one camera -> robots and ball candidates on the field
+// (paper §III-D). A thin adapter over FrameIdentifier (src/identification/): it builds the
+// camera model from camera_info and the camera pose (tf or a camera_pose.yaml) and turns each
+// BlobArray into one CameraDetections with the image's capture stamp. Parameters and topics:
+// docs/nodelets.md, generated from cfg/Identification.cfg and cfg/Identification.params.yaml.
 #include <atomic>
 #include <memory>
 #include <mutex>

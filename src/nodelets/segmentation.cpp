@@ -1,79 +1,9 @@
-// soccer_vision/Segmentation: the segmentation stage (paper §III-A/B) between the camera
-// driver and identification. Per frame of `image_raw` (bgr8, rgb8 or an 8-bit Bayer mosaic,
-// classified without demosaicing): illumination adaptation, colour-table lookup and regions
-// of the marker colours, published as one BlobArray. A thin adapter: all of that is the
-// Segmenter (src/segmentation/); this file only moves parameters, tables and messages.
-//
-// Parameters (private namespace ~; those marked (dr) are also dynamic_reconfigure, see
-// cfg/Segmentation.cfg, and apply from the next frame):
-//   camera_id         int     0       Camera number n: BlobArray.camera_id; search windows of
-//                                     another camera_id are ignored.
-//   color_table       string  ""      (dr) Colour-table file (.svct, calibrate_colors or
-//                                     ~calibrate with save). Loaded in the background at
-//                                     start-up and whenever it changes; a missing or corrupt
-//                                     file logs an error and keeps the previous table. Until a
-//                                     table exists (file or ~calibrate) frames are dropped
-//                                     (error repeated every 5 s).
-//   illumination_k    double  0.3     (dr) Illumination adaptation per 32x32 block; 0 = off.
-//                                     Normalised tables (calibrate_colors' default): k > 0
-//                                     measures each block's light level every frame and
-//                                     scales V to the calibration's mean level. Tables of V
-//                                     as captured: the paper's v' = v + k (v_ref - v_now).
-//   morph_kernel      int     3       (dr) Open + close with a k x k square per class; 0 = off.
-//   min_area          int     5       (dr) Smallest region kept [px of the label image].
-//                                     Region settings are for 1280-px-wide label images;
-//                                     narrower ones scale them (labelParams, segmenter.h).
-//   max_area          int     20000   (dr) Largest region kept [px of the label image].
-//   max_regions_per_class int 64      (dr) Cap per class and frame; the excess is dropped and
-//                                     counted in BlobArray.cap_hits.
-//   sharpen           double  0       (dr) Laplacian sharpening of V (paper §IV); 0 = off.
-//   coverage_weighted_moments bool true  (dr) Sub-pixel centroids from edge coverage; false =
-//                                     binary moments.
-//   threshold_lab     double  20      (dr) ~calibrate: Lab distance of valid samples (when the
-//                                     request gives 0).
-//   threshold_h       double  15      (dr) ~calibrate: hue distance [deg] of valid samples
-//                                     (when the request gives 0).
-//   frame_step        int     1       (dr) Process every n-th frame (the paper's sampling);
-//                                     the others are skipped (counted in diagnostics).
-//   search_window_max_age double 0.5  [s] search_windows older than this (image stamp minus
-//                                     windows stamp) are ignored: whole-frame search.
-//   queue_size        int     2       image_raw subscription queue.
-//   image_transport   string  "raw"   image_transport plugin for image_raw.
-//   debug_report_data_pointer bool false  Publish debug/image_data_address (testing zero copy).
-//   diagnostic_period double  1.0     [s] (diagnostic_updater's own parameter).
-//
-// Subscribed (node namespace, e.g. /camera_0/):
-//   image_raw          sensor_msgs/Image   bgr8, rgb8, bayer_{rggb,bggr,gbrg,grbg}8
-//                                          (image_transport, ConstPtr, never copied). Other
-//                                          encodings (mono8, 16-bit, yuv...) and truncated
-//                                          images are dropped with an error (every 5 s).
-//   search_windows     soccer_vision/SearchWindows  From tracking: the latest message is used
-//                                          for the next frames if its camera_id matches and
-//                                          it is at most search_window_max_age old;
-//                                          global_search = true, no message or an old one:
-//                                          the whole frame is searched.
-// Published (node namespace):
-//   blobs              soccer_vision/BlobArray  One per processed frame, header = the image's
-//                                          (capture stamp, optical frame); blobs in image
-//                                          pixels (Bayer too), windows as used, cap_hits per
-//                                          ColorClass value, processing_time.
-//   debug/classification sensor_msgs/Image  Lazily (only while subscribed, checked per frame):
-//                                          bgr8 colour-coded class of every pixel after
-//                                          illumination adaptation, at label resolution (the
-//                                          image size for bgr8/rgb8, half of it for Bayer: one
-//                                          label per 2x2 quad), same header as the image.
-//   debug/image_data_address std_msgs/UInt64MultiArray  Only with debug_report_data_pointer:
-//                                          [stamp.sec, stamp.nsec, address of the pixel
-//                                          buffer segmented] per frame, to prove that frames of
-//                                          the same manager arrive without a copy.
-//   /diagnostics       frame rate, processing time (mean/max per diagnostic period), regions
-//                      per class, cap hits, dropped frames by cause, colour-table state.
-// Services:
-//   ~calibrate         soccer_vision/Calibrate  New table from the latest frame (Bayer/rgb8:
-//                      converted to BGR for calibration) and sample polygons on it, with that
-//                      frame as the illumination reference; swapped in atomically and written
-//                      to a file when `save`. Failure: success false, the previous table stays.
-//   ~set_parameters    dynamic_reconfigure.
+// soccer_vision/Segmentation: the segmentation stage (paper §III-A/B) between the camera driver
+// and identification: per frame of `image_raw`, illumination adaptation, colour-table lookup and
+// the regions of the marker colours, in the search windows or the whole frame, as one BlobArray.
+// A thin adapter over the Segmenter (src/segmentation/): this file moves parameters, tables and
+// messages. Parameters, topics and services: docs/nodelets.md, generated from
+// cfg/Segmentation.cfg and cfg/Segmentation.params.yaml.
 #include <algorithm>
 #include <array>
 #include <atomic>

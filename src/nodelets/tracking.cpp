@@ -1,45 +1,8 @@
 // soccer_vision/Tracking: the detections of every camera -> tracked robots and ball (paper
-// §III-C), their tf frames and rviz markers, and the search windows fed back to each
-// camera's segmentation. A thin adapter over the core's Tracker, searchWindows and
-// GlobalSearchPolicy: one tracker for all cameras, so a robot in the overlap is one track.
-//
-// Parameters (private namespace ~; (dr) = also dynamic_reconfigure, cfg/Tracking.cfg):
-//   cameras           string[] ["/camera_0"]  Camera namespaces: <ns>/detections and
-//                                     <ns>/camera_info in, <ns>/search_windows out.
-//   field_frame       string  "field"
-//   publish_tf        bool    true    tf field -> robot/<team>_<id> (team-only tracks:
-//                                     robot/<team>_track<k>) and field -> ball.
-//   results_file      string  ""      DESIGN.md JSON Lines, one line per processed camera frame
-//                                     (robots and the primary ball at the frame's stamp).
-//   search_windows    bool    true    (dr) Feed windows back; false: every frame is searched whole.
-//   window_side       int     200     (dr) R [px] of a search window before enlargement.
-//   entry_band        int     48      (dr) [px] bands along the image borders searched with the
-//                                     windows, where untracked robots and the ball enter the view
-//                                     (0 = off: newcomers wait for the next global search).
-//   global_search_period int  30      (dr) Global search at least every n processed frames of a
-//                                     camera (and whenever an expected target was missed).
-//   robot_lost_timeout double 0.5     (dr) [s] without a measurement -> robot dropped.
-//   ball_lost_timeout double  0.5     (dr) [s] likewise for the ball.
-//   min_confidence    double  0.0     (dr) detections below are ignored.
-//   max_forward_jump  double  1.0     (dr) [s] a larger forward step of the stamps (paused or
-//                                     skipped bag) resets all tracks; a backward step always does.
-//   show_windows      bool    false   (dr) publish window_markers: every camera's search windows
-//                                     (entry bands included) projected onto the marker plane.
-//   measurement_offset double 0.0     (dr) [s] when, after a frame's capture stamp, its detections
-//                                     were measured (the middle of the exposure: exposure / 2 for
-//                                     stamps at its start). The tracker runs on measurement times
-//                                     and outputs at the capture stamp, without a lag of v x offset.
-//   measurement_offsets double[] []   Per camera, in the order of `cameras`: its own offset
-//                                     (cameras with different exposures); missing entries use
-//                                     measurement_offset.
-//
-// Published (node namespace): robots (RobotPoseArray), balls (BallPoseArray, primary first),
-//   ball (BallPose, the primary ball; only while there is one), markers (MarkerArray),
-//   window_markers (MarkerArray, with show_windows),
-//   field_markers (MarkerArray, latched), <ns>/search_windows (SearchWindows) per camera;
-//   every header stamp = the capture stamp of the camera frame just processed.
-//   /tf, /diagnostics: rate, latency (capture stamp -> publish, mean/p50/p99), tracks,
-//   resets, outliers, global searches by reason.
+// §III-C), their tf frames and rviz markers, and the search windows fed back to each camera's
+// segmentation. A thin adapter over Tracker and SearchPlanner (src/tracking/): one tracker for
+// all cameras, so a robot in the overlap is one track. Parameters and topics:
+// docs/nodelets.md, generated from cfg/Tracking.cfg and cfg/Tracking.params.yaml.
 #include <algorithm>
 #include <cmath>
 #include <map>
