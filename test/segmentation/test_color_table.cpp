@@ -346,6 +346,25 @@ TEST(ColorTable, CollectsPixelsWhoseCentreIsInsideAPolygonOnce) {
   EXPECT_THROW(collectSamplePixels(cv::Mat1b(4, 4), samples), std::invalid_argument);
 }
 
+// Integer coordinates are pixel centres, and polygon edges through centres are half-open:
+// a centre on the left or top edge is inside, one on the right or bottom edge outside
+// (docs/formats.md), so two polygons sharing an edge never both take a pixel.
+TEST(ColorTable, PolygonEdgesThroughPixelCentresAreHalfOpen) {
+  ColorSamples samples;
+  samples[ColorClass::Pink] = {{{2, 3}, {6, 3}, {6, 5}, {2, 5}}};
+  samples[ColorClass::Orange] = {{{6, 3}, {8, 3}, {8, 5}, {6, 5}}};  // shares the edge u = 6
+  const auto positions = samplePixelPositions(cv::Size(10, 10), samples);
+  auto expected = [](int u0, int u1, int v0, int v1) {
+    std::vector<cv::Point> points;
+    for (int v = v0; v <= v1; ++v) {
+      for (int u = u0; u <= u1; ++u) points.emplace_back(u, v);
+    }
+    return points;
+  };
+  EXPECT_EQ(positions.at(ColorClass::Pink), expected(2, 5, 3, 4));
+  EXPECT_EQ(positions.at(ColorClass::Orange), expected(6, 7, 3, 4));
+}
+
 // ------------------------------------------------------------------ file format
 
 class ColorTableFile : public ::testing::Test {
