@@ -12,7 +12,7 @@ namespace soccer_vision {
 namespace {
 
 constexpr double kMaxSubStep = 0.002;      // s
-constexpr double kRobotSpeedCap = 5.0;     // m/s, DESIGN.md game limits
+constexpr double kRobotSpeedCap = 5.0;     // m/s, the game's limits
 constexpr double kBallSpeedCap = 15.0;     // m/s
 constexpr double kBallRadius = 0.0215;     // m
 constexpr double kArrivalDistance = 0.05;  // m: target reached, pick the next one

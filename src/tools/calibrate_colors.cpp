@@ -1,5 +1,5 @@
 // calibrate_colors: the paper's offline colour calibration (§III-A) as a command. From one
-// or more calibration images and the DESIGN.md sample polygons on each, builds the colour
+// or more calibration images and the sample polygons on each, builds the colour
 // table (mean Lab / mean H per class, valid samples, HSV bodies, naive Bayes on overlaps),
 // attaches the illumination reference of the images (mean V and carpet light level per
 // 32x32 block) and writes a versioned .svct file for the Segmentation nodelet (parameter

@@ -1,5 +1,5 @@
 // calibrate_field: the camera's pose in `field` from >= 4 pixel <-> field correspondences
-// (DESIGN.md field_points.yaml, raw distorted pixels) and the camera's intrinsics (the
+// (field_points.yaml, raw distorted pixels) and the camera's intrinsics (the
 // standard ROS camera calibration YAML, e.g. camera_info.yaml of make_scenario or of
 // camera_calibration). Prints the reprojection error of every point and the RMS, and
 // writes camera_pose.yaml (see include/soccer_vision/common/camera_pose_file.h) from which the

@@ -1,6 +1,6 @@
 // make_scenario: renders a scenario preset into a rosbag (image_raw, camera_info and the
-// ground-truth topics of each camera, with capture stamps) and writes the DESIGN.md
-// exchange files next to it: truth.jsonl, samples.yaml (colour samples on the first
+// ground-truth topics of each camera, with capture stamps) and writes the exchange files
+// (docs/formats.md) next to it: truth.jsonl, samples.yaml (colour samples on the first
 // frame), field_points.yaml, plus camera_info.yaml and first_frame.png for calibration,
 // and samples_camera_<n>_frame_<i>.yaml for the frames a table is calibrated on (as
 // calibrate_synthetic: 24 frames 0.375 s apart, those within the recording; polygons where

@@ -181,7 +181,7 @@ TEST(FieldRenderer, TwoTagMarkersHaveTheDesignDimensions) {
   const cv::Mat image = renderImage(renderer, scene);
   const RobotState& robot = scene.robots[0];
 
-  // DESIGN.md: team rectangle 80 x 30 mm, 20 mm behind the centre; role disc 40 mm, 45 mm ahead.
+  // The two-tag pattern: team rectangle 80 x 30 mm, 20 mm behind the centre; role disc 40 mm, 45 mm ahead.
   const auto markers = patterns.markers(robot.team, robot.id);
   ASSERT_EQ(markers.size(), 2u);
   const double team_area = measureMarker(image, camera, robot, markers[0].shape, ColorClass::Yellow).area;
@@ -209,7 +209,7 @@ TEST(FieldRenderer, SslDotsSitAtTheDesignLayout) {
   EXPECT_NEAR(team_area / (M_PI * 0.025 * 0.025 * pixelsPerSquareMetre(camera, onTop(robot, 0, 0))), 1.0,
               0.02);
 
-  // DESIGN.md: 40 mm discs 65 mm from the centre at -60, +60, +135, -135 degrees.
+  // The SSL pattern: 40 mm discs 65 mm from the centre at -60, +60, +135, -135 degrees.
   const double angles_deg[] = {-60, 60, 135, -135};
   const ColorClass colors[] = {ColorClass::Green, ColorClass::Pink, ColorClass::Green, ColorClass::Pink};
   for (int k = 0; k < 4; ++k) {

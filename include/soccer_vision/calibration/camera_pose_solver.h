@@ -1,4 +1,4 @@
-// Camera pose in `field` from >= 4 pixel <-> field correspondences (DESIGN.md
+// Camera pose in `field` from >= 4 pixel <-> field correspondences (docs/formats.md
 // field_points.yaml): the pixels are undistorted through the intrinsics, an initial pose
 // comes from OpenCV (IPPE for coplanar points, which gives both planar solutions; SQPnP
 // otherwise), and every candidate is refined by Levenberg-Marquardt on the reprojection

@@ -25,7 +25,7 @@ class CameraModel {
   // field_T_camera: pose of the optical frame (z forward, x right, y down) in `field`.
   CameraModel(const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& field_T_camera);
 
-  // The built-in camera `index` (0: over x < 0, 1: over x > 0) of DESIGN.md: ~4 m above
+  // The built-in camera `index` (0: over x < 0, 1: over x > 0): ~4 m above
   // the carpet, looking straight down, image u along field y, covering its half plus
   // the overlap and the boundary, with moderate barrel distortion.
   static CameraModel defaultCamera(const FieldGeometry& field, int index, int width = 1280,

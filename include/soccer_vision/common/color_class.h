@@ -1,4 +1,4 @@
-// The colour classes the whole pipeline speaks about (DESIGN.md "Defaults").
+// The colour classes the whole pipeline speaks about (docs/formats.md).
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// The exchange files of DESIGN.md that other tools read and write:
+// The exchange files other tools read and write (docs/formats.md):
 //  - per-frame results / ground truth as JSON Lines (field frame, SI units),
 //  - colour samples (YAML: class name -> polygons in pixel coordinates),
 //  - field correspondences (YAML: points: [{pixel: [u, v], field: [x, y, z]}]).

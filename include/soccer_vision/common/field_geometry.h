@@ -1,4 +1,4 @@
-// Field dimensions and markings (DESIGN.md: 9 x 6 m, 0.3 m boundary, 10 mm lines).
+// Field dimensions and markings (the paper's: 9 x 6 m, 0.3 m boundary, 10 mm lines).
 // Frame `field`: origin at the centre point, x along the length, y along the width, z up.
 #pragma once
 

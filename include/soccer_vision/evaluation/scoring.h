@@ -1,4 +1,4 @@
-// Scoring per-frame results against ground truth (both DESIGN.md FrameRecords), the
+// Scoring per-frame results against ground truth (both FrameRecords), the
 // definitions every figure of the project uses:
 //  - a result robot *matches* a ground-truth robot of the same team and id whose centre is
 //    within max_distance (50 mm) of it; each ground-truth robot is matched at most once;

@@ -31,7 +31,7 @@ RobotPoseArray toRobotPoseArray(const SceneState& scene, const ros::Time& stamp,
 BallPoseArray toBallPoseArray(const SceneState& scene, const ros::Time& stamp, int camera_id,
                               const BallVisibility& visible);
 
-// DESIGN.md JSON Lines record of robot and ball messages (visible flags kept).
+// JSON Lines record (docs/formats.md) of robot and ball messages (visible flags kept).
 FrameRecord toFrameRecord(const RobotPoseArray& robots, const BallPoseArray& balls);
 
 }  // namespace soccer_vision

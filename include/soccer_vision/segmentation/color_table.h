@@ -1,4 +1,4 @@
-// The paper's offline colour table (§III-A, DESIGN.md "The method, made precise" §1):
+// The paper's offline colour table (§III-A; docs/segmentation.md):
 // built from sample pixels per colour class, it maps every quantised HSV cell to one
 // class (or ColorClass::None), and is saved/loaded as a versioned `.svct` file.
 //
@@ -154,7 +154,7 @@ class ColorTable {
   // All cells, index (h_bin * s_bins + s_bin) * v_bins + v_bin.
   const std::vector<ColorClass>& cells() const { return cells_; }
 
-  // Illumination reference of the calibration images (DESIGN.md §2): mean V per 32x32
+  // Illumination reference of the calibration images (paper §III-B): mean V per 32x32
   // block, CV_32FC1 of the images' block grid; empty when the table has none.
   const cv::Mat& illuminationReference() const { return illumination_reference_; }
   // This table with that reference (copied). Throws std::invalid_argument unless it is

@@ -1,4 +1,4 @@
-// Camera back-ends behind one ROS-free interface (DESIGN.md "src/sources"): the
+// Camera back-ends behind one ROS-free interface (docs/cameras.md): the
 // CameraDriver nodelet opens a source by name (parameter `source`), asks for the frame
 // format, allocates the message buffer itself and lets the source write each frame into a
 // cv::Mat that wraps that buffer (allocate-then-wrap: zero copy from back-end to topic).

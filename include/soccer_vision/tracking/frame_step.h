@@ -1,4 +1,4 @@
-// `frame_step` (paper §III-C, DESIGN.md): process every n-th frame of a camera, skip the
+// `frame_step` (paper §III-C): process every n-th frame of a camera, skip the
 // others. One per camera stream; n = 1 processes everything.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Tracker output as the DESIGN.md per-frame JSON Lines results, so any run (live or from a
+// Tracker output as the per-frame JSON Lines results (docs/formats.md), so any run (live or from a
 // bag) can be scored against ground truth: one FrameRecord per processed frame.
 #pragma once
 

@@ -1,5 +1,5 @@
-// Multi-target tracker over the detections of one or more cameras (paper §III-C, DESIGN.md
-// "Tracking"): one RobotFilter per robot, BallFilters for the ball, all in the `field` frame.
+// Multi-target tracker over the detections of one or more cameras (paper §III-C; see
+// docs/tracking.md): one RobotFilter per robot, BallFilters for the ball, all in `field`.
 //
 // Association:
 //  - robots with an id: by identity (team, id); two detections of one identity in one frame

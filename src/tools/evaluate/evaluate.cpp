@@ -31,7 +31,7 @@
 // second; Table II (time per stage with and without dynamic windows, same bag and frame
 // step); with --sweep Table I (frame step 1-4 x window side 50/100/200/400 px: time,
 // processed, global-search, window and failed frames, failure and success rates).
-// --markdown FILE: the tables as a Markdown section beside the paper's (docs/EVALUATION.md
+// --markdown FILE: the tables as a Markdown section beside the paper's (docs/evaluation.md
 // is made of them: scripts/evaluate_presets).
 // --plots DIR: trajectories.png (the first 20 s), position_error.png, stage_times.png,
 // prediction_error.png (a run per frame step 1-4, from the sweep when there is one).

@@ -1,5 +1,5 @@
 // The evaluate tool's report, from its JSON (the same object --json writes): the text
-// printed to the terminal and the Markdown section docs/EVALUATION.md is made of, each
+// printed to the terminal and the Markdown section docs/evaluation.md is made of, each
 // beside the paper's figures. Keys: see evaluate.cpp (scoreJson, stageJson, runSummary).
 #pragma once
 
