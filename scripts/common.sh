@@ -72,6 +72,11 @@ scenario_pattern() {
   pattern="$(sed -n 's/^pattern:[[:space:]]*\([A-Za-z_]*\).*/\1/p' "$1" 2>/dev/null | head -n 1)"
   echo "${pattern:-two_tag}"
 }
+scenario_field() {
+  local field
+  field="$(sed -n 's/^field:[[:space:]]*\([^[:space:]#]*\).*/\1/p' "$1" 2>/dev/null | head -n 1)"
+  echo "${field:-div_b}"
+}
 scenario_measurement_offset() {
   /usr/bin/python3 -c 'import sys, yaml
 s = (yaml.safe_load(open(sys.argv[1])) or {}).get("sensor") or {}

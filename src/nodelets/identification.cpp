@@ -68,6 +68,8 @@ class IdentificationNodelet : public nodelet::Nodelet {
   std::string field_frame_ = "field";
   std::optional<CameraPoseFile> pose_file_;
   std::string pose_file_path_;
+  std::optional<FieldGeometry> field_;  // none: the `field` parameter names no valid field
+  std::string field_error_;
 
   ros::Subscriber blobs_sub_, info_sub_;
   ros::Publisher detections_pub_;
@@ -104,6 +106,15 @@ void IdentificationNodelet::onInit() {
   pnh.param("camera_id", camera_id_, 0);
   pnh.param("field_frame", field_frame_, std::string("field"));
   pnh.param("camera_pose", pose_file_path_, std::string());  // loaded with the first frame
+  std::string field_name;
+  pnh.param("field", field_name, std::string("div_b"));
+  try {
+    field_ = fieldGeometryByName(field_name);
+  } catch (const std::exception& e) {
+    // No silent fallback to another field: its on-carpet test would accept or drop the wrong balls.
+    field_error_ = e.what();
+    NODELET_ERROR("%s; no detections until the parameter names a valid field", e.what());
+  }
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
 
@@ -150,6 +161,10 @@ void IdentificationNodelet::cameraInfoCallback(const sensor_msgs::CameraInfoCons
 std::shared_ptr<const FrameIdentifier> IdentificationNodelet::identifierFor(const BlobArray& blobs) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!rebuild_ && identifier_ && identifier_frame_ == blobs.header.frame_id) return identifier_;
+  if (!field_) {
+    problem_ = field_error_;
+    return nullptr;
+  }
   if (!info_) {
     problem_ = "no camera_info received yet";
     return nullptr;
@@ -177,7 +192,7 @@ std::shared_ptr<const FrameIdentifier> IdentificationNodelet::identifierFor(cons
           tf_buffer_->lookupTransform(field_frame_, blobs.header.frame_id, ros::Time(0));
       camera = CameraModel(intrinsics, fromTransform(t.transform));
     }
-    identifier_ = std::make_shared<const FrameIdentifier>(camera, patterns_, FieldGeometry{}, params_);
+    identifier_ = std::make_shared<const FrameIdentifier>(camera, patterns_, *field_, params_);
     identifier_frame_ = blobs.header.frame_id;
     rebuild_ = false;
     problem_.clear();

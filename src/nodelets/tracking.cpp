@@ -178,8 +178,14 @@ void TrackingNodelet::onInit() {
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
   field_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("field_markers", 1, true);
   window_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("window_markers", 5);
-  field_markers_pub_.publish(
-      boost::make_shared<visualization_msgs::MarkerArray>(fieldMarkers(FieldGeometry{}, field_frame_)));
+  std::string field_name;
+  pnh.param("field", field_name, std::string("div_b"));
+  try {
+    field_markers_pub_.publish(boost::make_shared<visualization_msgs::MarkerArray>(
+        fieldMarkers(fieldGeometryByName(field_name), field_frame_)));
+  } catch (const std::exception& e) {
+    NODELET_ERROR("%s; no field markers", e.what());
+  }
 
   std::vector<double> offsets;
   pnh.getParam("measurement_offsets", offsets);

@@ -74,12 +74,7 @@ visualization_msgs::MarkerArray fieldMarkers(const FieldGeometry& field, const s
     auto circle = marker(header, "field", id++, visualization_msgs::Marker::LINE_STRIP);
     circle.scale.x = lines.scale.x;
     circle.color = lines.color;
-    constexpr int kSegments = 72;
-    for (int i = 0; i <= kSegments; ++i) {
-      const double a = 2 * M_PI * i / kSegments;
-      circle.points.push_back(
-          point(c.centre.x() + c.radius * std::cos(a), c.centre.y() + c.radius * std::sin(a), 0.001));
-    }
+    for (const Eigen::Vector2d& p : c.points(72)) circle.points.push_back(point(p.x(), p.y(), 0.001));
     out.markers.push_back(circle);
   }
   return out;

@@ -89,7 +89,7 @@ double distanceToSegment(const Eigen::Vector2d& p, const LineSegment& s) {
 double distanceToLines(const Eigen::Vector2d& p, const FieldGeometry& field) {
   double d = std::numeric_limits<double>::infinity();
   for (const auto& s : field.lines()) d = std::min(d, distanceToSegment(p, s));
-  for (const auto& c : field.circles()) d = std::min(d, std::abs((p - c.centre).norm() - c.radius));
+  for (const auto& c : field.circles()) d = std::min(d, c.distance(p));
   return d;
 }
 

@@ -184,8 +184,7 @@ struct FieldRenderer::Impl {
         double line_sdf = HUGE_VAL;
         if (on_carpet > 0) {
           for (const LineSegment& s : lines) line_sdf = std::min(line_sdf, segmentDistance(p, s.a, s.b));
-          for (const CircleArc& c : circles)
-            line_sdf = std::min(line_sdf, std::abs((p - c.centre).norm() - c.radius));
+          for (const CircleArc& c : circles) line_sdf = std::min(line_sdf, c.distance(p));
         }
         const float on_line = coverage(static_cast<float>(line_sdf - half_line), fp[u]);
         gn[u] = static_cast<float>(illumination.spatialGain(p.x(), p.y()));

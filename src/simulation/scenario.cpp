@@ -78,6 +78,7 @@ ScenarioConfig parseScenario(const std::string& yaml_text, const std::string& so
       .field("seed", s.seed)
       .field("fps", s.fps)
       .field("width", s.width)
+      .field("field", s.field)
       .field("height", s.height)
       .field("pattern", s.pattern)
       .field("blue_robots", s.blue_robots)

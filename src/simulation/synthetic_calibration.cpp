@@ -19,7 +19,7 @@ ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index,
       scenario.sensor.bayer.empty() ? PixelLayout::Bgr
                                     : pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
   if (!layout) throw std::invalid_argument("unknown Bayer pattern '" + scenario.sensor.bayer + "'");
-  const FieldGeometry field;
+  const FieldGeometry field = fieldGeometryByName(scenario.field);
   const PatternSet patterns = patternSetByName(scenario.pattern);
   GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
   const FieldRenderer renderer(

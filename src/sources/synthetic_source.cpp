@@ -103,7 +103,7 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
                                 "); using the built-in two_tag pattern");
       patterns_ = PatternSet::twoTag();
     }
-    field_ = FieldGeometry{};
+    field_ = fieldGeometryByName(scenario.field);
     camera_ = CameraModel::defaultCamera(field_, options.camera_index, scenario.width, scenario.height);
     sim_ = std::make_unique<GameSimulator>(scenario, field_, patterns_.maxRobotsPerTeam());
     renderer_ = std::make_unique<FieldRenderer>(camera_, field_, patterns_, scenario);

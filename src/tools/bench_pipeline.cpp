@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
     sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
     if (o.width > 0) scenario.width = o.width;
     if (o.height > 0) scenario.height = o.height;
-    const sv::FieldGeometry field;
+    const sv::FieldGeometry field = sv::fieldGeometryByName(scenario.field);
     const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
     const sv::CameraModel camera = sv::CameraModel::defaultCamera(field, 0, scenario.width, scenario.height);
     const sv::FieldRenderer renderer(camera, field, patterns, scenario);

@@ -9,6 +9,7 @@
 //                                   <camera>/ground_truth/balls
 //   ~camera_id int    0            synthetic camera index (CameraModel::defaultCamera) used to
 //                                   project the ground truth onto the snapshot
+//   ~field     string "div_b"      field geometry of the synthetic scene (div_b, div_a or a YAML path)
 //   ~duration  double 10           [s] run time (the --duration option wins); 0 = until Ctrl-C
 //   ~snapshot  string "./soccer_vision_snapshot.png"  annotated PNG of the last frame
 //
@@ -245,6 +246,8 @@ int main(int argc, char** argv) {
   int camera_id = 0;
   pnh.param<std::string>("camera", camera_ns, "camera_0");
   pnh.param("camera_id", camera_id, 0);
+  std::string field_name;
+  pnh.param<std::string>("field", field_name, "div_b");
   std::string vision_ns;
   pnh.param<std::string>("vision", vision_ns, "/vision");
   if (duration < 0) pnh.param("duration", duration, 10.0);
@@ -332,8 +335,9 @@ int main(int argc, char** argv) {
     }
     const auto rit = m.robots.find(shot->header.stamp);
     const auto bit = m.balls.find(shot->header.stamp);
-    const sv::CameraModel camera = sv::CameraModel::defaultCamera(
-        sv::FieldGeometry{}, camera_id, static_cast<int>(im.width), static_cast<int>(im.height));
+    const sv::CameraModel camera =
+        sv::CameraModel::defaultCamera(sv::fieldGeometryByName(field_name), camera_id,
+                                       static_cast<int>(im.width), static_cast<int>(im.height));
     annotate(bgr, camera, rit != m.robots.end() ? rit->second : nullptr,
              bit != m.balls.end() ? bit->second : nullptr);
     if (!cv::imwrite(snapshot, bgr)) throw std::runtime_error("cv::imwrite failed");

@@ -127,7 +127,7 @@ int run(const Options& o) {
   if (o.width > 0) scenario.width = o.width;
   if (o.height > 0) scenario.height = o.height;
   if (o.seed >= 0) scenario.seed = static_cast<std::uint64_t>(o.seed);
-  const sv::FieldGeometry field;
+  const sv::FieldGeometry field = sv::fieldGeometryByName(scenario.field);
   const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
   sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
 

@@ -59,3 +59,9 @@ TEST(Scenario, TyposAndOutOfRangeValuesAreErrors) {
   EXPECT_NE(errorOf("{{{").find("invalid YAML"), std::string::npos);
   EXPECT_THROW(loadScenario("/nonexistent.yaml"), std::runtime_error);
 }
+
+TEST(Scenario, NamesItsField) {
+  EXPECT_EQ(parseScenario("", "empty").field, "div_b");
+  EXPECT_EQ(parseScenario("field: div_a", "a").field, "div_a");
+  EXPECT_THROW(parseScenario("field: [1]", "bad"), std::runtime_error);
+}

@@ -43,6 +43,7 @@ struct ScenarioConfig {
   int width = 1280;  // pixels
   int height = 1024;
   std::string pattern = "two_tag";  // pattern set name or YAML path
+  std::string field = "div_b";      // field geometry: div_b, div_a or a YAML path (config/fields/)
   int blue_robots = 5;
   int yellow_robots = 5;
   int balls = 1;

@@ -155,7 +155,7 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* 
   scenario.motion.area_x_max = -0.4;
   sv::ScenarioConfig bayer_scenario = scenario;
   bayer_scenario.sensor.bayer = "rggb";
-  const sv::FieldGeometry field;
+  const sv::FieldGeometry field = sv::fieldGeometryByName(scenario.field);
   const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
   const auto camera = sv::CameraModel::defaultCamera(field, 0, size.width, size.height);
   const sv::FieldRenderer renderer(camera, field, patterns, scenario);

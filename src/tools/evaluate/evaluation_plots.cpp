@@ -17,7 +17,6 @@
 namespace soccer_vision {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const cv::Scalar kWhite(255, 255, 255);
 const cv::Scalar kCarpet(206, 232, 210);  // pale green
 const cv::Scalar kGoal(110, 110, 110);
@@ -116,9 +115,9 @@ void drawField(PlotCanvas& c, const FieldGeometry& f) {
     c.addPolyline({l.a.x(), l.b.x()}, {l.a.y(), l.b.y()}, kWhite, "", LineStyle::Solid, 2);
   for (const CircleArc& a : f.circles()) {
     std::vector<double> xs, ys;
-    for (int i = 0; i <= 96; ++i) {
-      xs.push_back(a.centre.x() + a.radius * std::cos(2 * kPi * i / 96));
-      ys.push_back(a.centre.y() + a.radius * std::sin(2 * kPi * i / 96));
+    for (const Eigen::Vector2d& p : a.points(96)) {
+      xs.push_back(p.x());
+      ys.push_back(p.y());
     }
     c.addPolyline(xs, ys, kWhite, "", LineStyle::Solid, 2);
   }
