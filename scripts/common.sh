@@ -24,6 +24,8 @@ DEBIAN_PACKAGES=(
 DEBIAN_PACKAGES+=( libaravis-dev aravis-tools libopencv-videoio-dev pkg-config libglib2.0-dev linux-libc-dev )
 DEBIAN_PACKAGES+=( libx11-dev )  # the rviz screenshot test reads the X display
 DEBIAN_PACKAGES+=( python3-yaml )  # scripts/nodelet_docs and test/docs read cfg/*.params.yaml
+DEBIAN_PACKAGES+=( libcli11-dev )  # the tools' command lines
+DEBIAN_PACKAGES+=( ccache )  # rebuilds of other checkouts and of the sanitizer workspace are cheap
 
 install_missing() {
   local missing=()
@@ -50,8 +52,10 @@ build_workspace() {
   for entry in "$REPO"/*; do ln -sfn "$entry" "$pkg/"; done
   find "$pkg" -maxdepth 1 -xtype l -delete  # entries removed from the repository
   # ccache, where the machine has it, makes rebuilds of other checkouts cheap.
+  # CCACHE_BASEDIR makes its keys independent of where the checkout lies.
   local launcher=()
   command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$REPO}"
   (cd "$WS" && catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON "${launcher[@]}" -j2 "$@" \
       > "$WS/build.log" 2>&1) || { tail -n 60 "$WS/build.log"; echo "== build failed (full log: $WS/build.log)"; return 1; }
   grep -E "warning:" "$WS/build.log" | sort -u | head -n 20 || true
