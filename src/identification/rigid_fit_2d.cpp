@@ -3,19 +3,14 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "soccer_vision/common/angle.h"
+
 namespace soccer_vision {
 
 Eigen::Vector2d Pose2d::apply(const Eigen::Vector2d& local) const {
   const double c = std::cos(theta), s = std::sin(theta);
   return {x + c * local.x() - s * local.y(), y + s * local.x() + c * local.y()};
 }
-
-double wrapAngle(double a) {
-  a = std::remainder(a, 2 * M_PI);  // [-pi, pi]
-  return a <= -M_PI ? a + 2 * M_PI : a;
-}
-
-double angleDifference(double a, double b) { return wrapAngle(a - b); }
 
 Pose2d fitRigid2d(const std::vector<Eigen::Vector2d>& model, const std::vector<Eigen::Vector2d>& observed,
                   const std::vector<double>& weights, const std::optional<HeadingPrior>& prior) {
@@ -52,7 +47,7 @@ Pose2d fitRigid2d(const std::vector<Eigen::Vector2d>& model, const std::vector<E
     theta = prior->theta;
   }
   Pose2d p;
-  p.theta = wrapAngle(theta);
+  p.theta = wrapToPi(theta);
   const double c = std::cos(p.theta), s = std::sin(p.theta);
   p.x = mo.x() - (c * mm.x() - s * mm.y());
   p.y = mo.y() - (s * mm.x() + c * mm.y());

@@ -8,6 +8,7 @@
 #include <set>
 #include <utility>
 
+#include "soccer_vision/common/angle.h"
 #include "soccer_vision/identification/image_footprint.h"
 #include "soccer_vision/identification/plane_region.h"
 #include "soccer_vision/identification/rigid_fit_2d.h"
@@ -162,7 +163,7 @@ class Matcher {
           if (slot_dist_[s] < 1e-6 || std::abs(dist - slot_dist_[s]) > params_.marker_gate) continue;
           if (!(slot_colors_[s] & colorBit(observed_[c].color))) continue;
           Pose2d seed;
-          seed.theta = wrapAngle(direction - slot_angle_[s]);
+          seed.theta = wrapToPi(direction - slot_angle_[s]);
           const Eigen::Vector2d offset = seed.apply(team_pos_) - Eigen::Vector2d(seed.x, seed.y);
           seed.x = team.plane.centre.x() - offset.x();
           seed.y = team.plane.centre.y() - offset.y();
@@ -246,9 +247,9 @@ class Matcher {
         double a = axis_heading;
         if (std::abs(angleDifference(a, layout)) > M_PI / 2) a += M_PI;
         if (std::abs(angleDifference(a, layout)) > params_.axis_gate_deg * kDeg) return false;
-        prior = HeadingPrior{wrapAngle(a), axis_weight_};
+        prior = HeadingPrior{wrapToPi(a), axis_weight_};
       } else {
-        prior = HeadingPrior{wrapAngle(axis_heading), 1.0};
+        prior = HeadingPrior{wrapToPi(axis_heading), 1.0};
       }
     }
     h.pose = fitRigid2d(fit_model_, fit_obs_, fit_w_, prior);
@@ -413,7 +414,7 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     d.x = h.pose.x;
     d.y = h.pose.y;
     d.heading_valid = h.heading_valid;
-    d.theta = h.heading_valid ? wrapAngle(h.pose.theta) : 0.0;
+    d.theta = h.heading_valid ? wrapToPi(h.pose.theta) : 0.0;
     d.confidence = h.confidence;
     const auto px = camera_.project({d.x, d.y, patterns_.robot_height});
     const Region& team_region = regions[obs[h.team].region];

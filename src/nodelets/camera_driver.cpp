@@ -34,6 +34,7 @@
 #include "soccer_vision/CameraDriverConfig.h"
 #include "soccer_vision/RobotPose.h"
 #include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/common/angle.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/ros/transforms.h"
@@ -64,11 +65,6 @@ std::string settingText(XmlRpc::XmlRpcValue& v) {
     default:
       return v.toXml();  // the source reports it as malformed
   }
-}
-
-double normalizeAngle(double a) {
-  a = std::remainder(a, 2.0 * M_PI);  // [-pi, pi]
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 
 }  // namespace
@@ -525,7 +521,7 @@ void CameraDriverNodelet::publishGroundTruth(const std_msgs::Header& image_heade
     robots->header.seq = image_header.seq;
     for (RobotPose& p : robots->robots) {
       p.header.seq = image_header.seq;
-      p.theta = normalizeAngle(p.theta);
+      p.theta = wrapToPi(p.theta);
     }
     gt_robots_pub_.publish(robots);
   }

@@ -37,11 +37,12 @@
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/SegmentationConfig.h"
 #include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/ros/blob_conversions.h"
+#include "soccer_vision/ros/image_message.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/segmenter.h"
-#include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/tracking/frame_step.h"
 
 namespace soccer_vision {
@@ -357,10 +358,7 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     dropFrame(dropped_encoding_);
     return;
   }
-  const std::size_t bytes_per_pixel = isBayer(*layout) ? 1 : 3;
-  if (image->width == 0 || image->height == 0 || image->step < image->width * bytes_per_pixel ||
-      image->data.size() < static_cast<std::size_t>(image->step) * image->height ||
-      (isBayer(*layout) && (image->width % 2 != 0 || image->height % 2 != 0))) {
+  if (!imageMessageIsConsistent(*image, *layout)) {
     NODELET_ERROR_THROTTLE(5.0,
                            "image_raw %ux%u %s with step %u and %zu data bytes is empty, "
                            "truncated or inconsistent; frame dropped",

@@ -10,6 +10,7 @@
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/image_message.h"
 
 namespace soccer_vision {
 
@@ -41,17 +42,6 @@ void mergeTruth(FrameRecord& into, const FrameRecord& camera) {
 }
 
 }  // namespace
-
-cv::Mat imageView(const sensor_msgs::Image& msg, PixelLayout layout, bool* truncated) {
-  const int type = isBayer(layout) ? CV_8UC1 : CV_8UC3;
-  const std::size_t row = static_cast<std::size_t>(msg.width) * CV_ELEM_SIZE(type);
-  const bool short_data = msg.width == 0 || msg.height == 0 || msg.step < row ||
-                          msg.data.size() < static_cast<std::size_t>(msg.step) * msg.height;
-  if (truncated) *truncated = short_data;
-  if (short_data) return {};
-  return cv::Mat(static_cast<int>(msg.height), static_cast<int>(msg.width), type,
-                 const_cast<std::uint8_t*>(msg.data.data()), msg.step);
-}
 
 BagFrames::BagFrames(const std::string& path) : path_(path), bag_(std::make_unique<rosbag::Bag>()) {
   try {

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "soccer_vision/common/angle.h"
+
 namespace soccer_vision {
 
 namespace {
@@ -19,11 +21,6 @@ constexpr double kArrivalDistance = 0.05;  // m: target reached, pick the next o
 constexpr double kHeadingTime = 0.25;      // s: time constant of the heading controller
 constexpr double kAvoidRange = 0.30;       // m of gap where robots start steering apart
 constexpr int kPlacementTries = 20000;
-
-double wrapAngle(double a) {
-  a = std::remainder(a, 2 * M_PI);
-  return a <= -M_PI ? a + 2 * M_PI : a;
-}
 
 // Scales v down to at most `limit` in length.
 Eigen::Vector2d clampNorm(const Eigen::Vector2d& v, double limit) {
@@ -58,7 +55,7 @@ GameSimulator::GameSimulator(const ScenarioConfig& scenario, const FieldGeometry
           return std::hypot(o.x - robot.x, o.y - robot.y) >= contact;
         });
       }
-      robot.theta = wrapAngle(uniform(-M_PI, M_PI));
+      robot.theta = wrapToPi(uniform(-M_PI, M_PI));
       state_.robots.push_back(robot);
     }
   };
@@ -161,7 +158,7 @@ void GameSimulator::moveRobots(double dt) {
     const Eigen::Vector2d v(rb.vx, rb.vy);
     vel[i] = clampNorm(v + clampNorm(desired - v, m.robot_max_accel * dt), v_max);
 
-    const double heading_error = wrapAngle(target_theta_[i] - rb.theta);
+    const double heading_error = wrapToPi(target_theta_[i] - rb.theta);
     rb.omega = std::clamp(heading_error / kHeadingTime, -m.robot_max_omega, m.robot_max_omega);
   }
 
@@ -208,7 +205,7 @@ void GameSimulator::moveRobots(double dt) {
     rb.vy = vel[i].y();
     rb.x += rb.vx * dt;
     rb.y += rb.vy * dt;
-    rb.theta = wrapAngle(rb.theta + rb.omega * dt);
+    rb.theta = wrapToPi(rb.theta + rb.omega * dt);
   }
 }
 

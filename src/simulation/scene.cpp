@@ -2,17 +2,9 @@
 
 #include <cmath>
 
+#include "soccer_vision/common/angle.h"
+
 namespace soccer_vision {
-
-namespace {
-
-// Wraps an angle to (-pi, pi].
-double wrapAngle(double a) {
-  a = std::remainder(a, 2 * M_PI);
-  return a <= -M_PI ? a + 2 * M_PI : a;
-}
-
-}  // namespace
 
 SceneState extrapolate(const SceneState& s, double dt) {
   SceneState out = s;
@@ -20,7 +12,7 @@ SceneState extrapolate(const SceneState& s, double dt) {
   for (RobotState& r : out.robots) {
     r.x += r.vx * dt;
     r.y += r.vy * dt;
-    r.theta = wrapAngle(r.theta + r.omega * dt);
+    r.theta = wrapToPi(r.theta + r.omega * dt);
   }
   for (BallState& b : out.balls) {
     b.x += b.vx * dt;

@@ -3,8 +3,6 @@
 #include <mutex>
 #include <utility>
 
-#include <opencv2/imgproc.hpp>
-
 #include "soccer_vision/sources/aravis_source.h"
 #include "soccer_vision/sources/images_source.h"
 #include "soccer_vision/sources/synthetic_source.h"
@@ -97,16 +95,6 @@ int cvTypeForEncoding(const std::string& e) {
     if (e.size() > 2 && e.compare(e.size() - 2, 2, "16") == 0) return CV_16UC1;
     if (e.back() == '8') return CV_8UC1;
   }
-  return -1;
-}
-
-int bayerToBgrCode(const std::string& e) {
-  // OpenCV names a Bayer layout after the second row's 2nd/3rd pixels, so a sensor whose
-  // top-left 2x2 block is R G / G B ("rggb") is OpenCV's BayerBG (as in cv_bridge).
-  if (e == "bayer_rggb8" || e == "bayer_rggb16") return cv::COLOR_BayerBG2BGR;
-  if (e == "bayer_bggr8" || e == "bayer_bggr16") return cv::COLOR_BayerRG2BGR;
-  if (e == "bayer_gbrg8" || e == "bayer_gbrg16") return cv::COLOR_BayerGR2BGR;
-  if (e == "bayer_grbg8" || e == "bayer_grbg16") return cv::COLOR_BayerGB2BGR;
   return -1;
 }
 

@@ -42,11 +42,12 @@
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/evaluation/scoring.h"
 #include "soccer_vision/ros/conversions.h"
-#include "soccer_vision/sources/frame_source.h"
 
 namespace sv = soccer_vision;
 
@@ -116,12 +117,6 @@ struct Monitor {
   }
 };
 
-double percentileOf(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
-}
-
 // The tracking outputs against the ground truth of the same stamps (mutex held).
 void printTrackingScore(const Monitor& m) {
   if (m.result_robots.empty()) {
@@ -142,8 +137,8 @@ void printTrackingScore(const Monitor& m) {
   const double span = (m.last_result - m.first_result).toSec();
   const double rate = m.result_robots.size() > 1 && span > 0 ? (m.result_robots.size() - 1) / span : 0.0;
   std::printf("  tracking outputs  %zu at %.2f Hz, latency capture -> receipt p50 %.2f ms, p99 %.2f ms\n",
-              m.result_robots.size(), rate, 1e3 * percentileOf(m.result_latencies, 0.5),
-              1e3 * percentileOf(m.result_latencies, 0.99));
+              m.result_robots.size(), rate, 1e3 * sv::percentile(m.result_latencies, 50),
+              1e3 * sv::percentile(m.result_latencies, 99));
   std::printf("  scored frames     %ld (same stamp as a ground-truth frame)\n",
               static_cast<long>(score.frames));
   std::printf("  robots            detection %.3f %% (%ld of %ld), precision %.3f %%, identity errors %ld\n",
@@ -291,7 +286,7 @@ int main(int argc, char** argv) {
   double mean = 0;
   for (double l : lat) mean += l;
   mean /= lat.size();
-  const double p99 = lat[std::min(lat.size() - 1, static_cast<std::size_t>(0.99 * lat.size()))];
+  const double p99 = sv::percentile(lat, 99);
 
   std::printf("demo_monitor summary (%s)\n", s1.getTopic().c_str());
   std::printf("  frames received   %zu in %.2f s\n", m.frames, span);

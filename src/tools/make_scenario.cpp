@@ -25,6 +25,7 @@
 #include <rosbag/bag.h>
 #include <sensor_msgs/Image.h>
 
+#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/package_paths.h"
@@ -212,12 +213,7 @@ int run(const Options& o) {
         const auto points = sv::fieldCorrespondences(ch.renderer->camera(), field);
         cv::Mat bgr = rendered.image;
         if (bayer) {
-          // OpenCV names Bayer patterns by the second row: RGGB mosaic -> COLOR_BayerBG2BGR.
-          static const std::map<std::string, int> kDemosaic = {{"bayer_rggb8", cv::COLOR_BayerBG2BGR},
-                                                               {"bayer_bggr8", cv::COLOR_BayerRG2BGR},
-                                                               {"bayer_gbrg8", cv::COLOR_BayerGR2BGR},
-                                                               {"bayer_grbg8", cv::COLOR_BayerGB2BGR}};
-          cv::cvtColor(rendered.image, bgr, kDemosaic.at(img.encoding));
+          cv::cvtColor(rendered.image, bgr, sv::bayerToBgrCode(img.encoding));
         }
         for (const auto& f : cameraFileNames(dir, "samples", ".yaml", ch.id, first))
           sv::writeTextFile(f, sv::toYaml(samples));

@@ -19,6 +19,7 @@
 
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/common/angle.h"
 #include "soccer_vision/identification/frame_identification.h"
 #include "soccer_vision/identification/image_footprint.h"
 #include "soccer_vision/identification/rigid_fit_2d.h"

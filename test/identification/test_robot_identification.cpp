@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "region_builder.h"
+#include "soccer_vision/common/angle.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/identification/frame_identification.h"
 #include "soccer_vision/identification/image_footprint.h"
@@ -33,7 +34,7 @@ RobotState robot(Team team, int id, double x, double y, double theta_deg) {
   r.id = id;
   r.x = x;
   r.y = y;
-  r.theta = wrapAngle(theta_deg * kDeg);
+  r.theta = wrapToPi(theta_deg * kDeg);
   return r;
 }
 

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "soccer_vision/common/exchange_formats.h"
+#include "support/run_tool.h"
 
 using namespace soccer_vision;
 
@@ -52,13 +53,11 @@ std::size_t waitForLiveResults(const std::string& path, std::chrono::seconds qui
   return last;
 }
 
-int runTool(const std::string& args, std::string* output) {
-  FILE* pipe = ::popen((std::string(EVALUATE_BIN) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) *output += buffer;
-  const int status = ::pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+// evaluate's exit status; what it printed is appended to `output`.
+int runEvaluate(const std::string& args, std::string* output) {
+  const soccer_vision::test::ToolRun run = soccer_vision::test::runTool(EVALUATE_BIN, args);
+  *output += run.output;
+  return run.status;
 }
 
 using Identity = std::tuple<Team, int>;
@@ -81,16 +80,16 @@ TEST(OfflineAgreement, RosbagPlayAndInProcessRunAgree) {
   std::string out;
   const std::string common = " --bag " + g_dir + "/scenario.bag --colors " + g_dir +
                              "/table.svct --camera-pose " + g_dir + "/camera_pose.yaml --skip-table2";
-  ASSERT_EQ(
-      runTool(common + " --results " + g_dir + "/inprocess_results.jsonl --json " + g_dir + "/inprocess.json",
-              &out),
-      0)
+  ASSERT_EQ(runEvaluate(common + " --results " + g_dir + "/inprocess_results.jsonl --json " + g_dir +
+                            "/inprocess.json",
+                        &out),
+            0)
       << out;
   std::printf("in-process:\n%s", out.c_str());
   out.clear();
-  ASSERT_EQ(runTool("--results-only --results " + live_path + " --truth " + g_dir + "/truth.jsonl --json " +
-                        g_dir + "/live.json",
-                    &out),
+  ASSERT_EQ(runEvaluate("--results-only --results " + live_path + " --truth " + g_dir +
+                            "/truth.jsonl --json " + g_dir + "/live.json",
+                        &out),
             0)
       << out;
   std::printf("live (rosbag play):\n%s", out.c_str());

@@ -25,6 +25,8 @@
 #include <sensor_msgs/Image.h>
 #include <sys/wait.h>
 
+#include "soccer_vision/common/statistics.h"
+
 namespace {
 
 pid_t fake_pid = -1;
@@ -99,9 +101,7 @@ std::string value(const diagnostic_msgs::DiagnosticStatus& s, const std::string&
 double medianInterval(const std::vector<ros::Time>& stamps) {
   std::vector<double> d;
   for (std::size_t i = 1; i < stamps.size(); ++i) d.push_back((stamps[i] - stamps[i - 1]).toSec());
-  if (d.empty()) return 0;
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return d[d.size() / 2];
+  return d.empty() ? 0 : soccer_vision::percentile(d, 50);
 }
 
 bool reconfigure(const std::string& name, double v, dynamic_reconfigure::Config& result) {

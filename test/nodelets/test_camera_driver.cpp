@@ -32,6 +32,7 @@
 #include "soccer_vision/BallPose.h"
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/common/robot_pattern.h"

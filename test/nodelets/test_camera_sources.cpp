@@ -30,6 +30,8 @@
 #include <std_msgs/UInt64MultiArray.h>
 #include <sys/stat.h>
 
+#include "soccer_vision/common/statistics.h"
+
 namespace {
 
 constexpr int kFrames = 10, kWidth = 64, kHeight = 48;
@@ -103,9 +105,7 @@ double medianInterval(const std::vector<std::pair<ros::Time, int>>& frames) {
   std::vector<double> d;
   for (std::size_t i = 1; i < frames.size(); ++i)
     d.push_back((frames[i].first - frames[i - 1].first).toSec());
-  if (d.empty()) return 0;
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return d[d.size() / 2];
+  return d.empty() ? 0 : soccer_vision::percentile(d, 50);
 }
 
 // The latest status of camera_1's source (name contains "camera_1" and "source").

@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "label_colors.h"
+#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
 #include "soccer_vision/segmentation/region_extractor.h"
@@ -531,11 +532,7 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
     a_ms.push_back(ms(a));
     b_ms.push_back(ms(b));
   }
-  auto median = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  return {median(a_ms), median(b_ms)};
+  return {percentile(a_ms, 50), percentile(b_ms, 50)};
 }
 
 }  // namespace

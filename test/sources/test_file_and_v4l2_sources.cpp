@@ -16,6 +16,7 @@
 #include <opencv2/videoio.hpp>
 #include <sys/stat.h>
 
+#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/sources/frame_pacer.h"
 #include "soccer_vision/sources/frame_source.h"
 #include "soccer_vision/sources/images_source.h"

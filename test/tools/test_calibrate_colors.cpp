@@ -2,7 +2,6 @@
 // even_static and uneven_drift presets at 640x512) the tool writes a loadable table with its
 // illumination reference, prints the statistics, writes the preview, and rejects bad
 // arguments and files with exit status 2 and a message.
-#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -10,10 +9,10 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
-#include <sys/wait.h>
 
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/segmentation/color_table.h"
+#include "support/run_tool.h"
 
 using namespace soccer_vision;
 
@@ -21,22 +20,9 @@ namespace {
 
 const std::string kDir = ::testing::TempDir() + "/calibrate_colors_test";
 
-struct ToolRun {
-  int status = -1;     // exit status
-  std::string output;  // stdout + stderr
-};
+using soccer_vision::test::ToolRun;
 
-ToolRun run(const std::string& args) {
-  const std::string cmd = std::string(CALIBRATE_COLORS_BIN) + " " + args + " 2>&1";
-  ToolRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+ToolRun run(const std::string& args) { return soccer_vision::test::runTool(CALIBRATE_COLORS_BIN, args); }
 
 class CalibrateColors : public ::testing::Test {
  protected:

@@ -2,18 +2,17 @@
 // (both cameras, 640x512): the written camera_pose.yaml equals the simulator's camera
 // (< 1 mm, < 0.1°), the per-point errors and the RMS are printed, and bad input gives a
 // non-zero exit with a message naming the problem.
-#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "support/run_tool.h"
 
 using namespace soccer_vision;
 
@@ -21,22 +20,9 @@ namespace {
 
 const std::string kDir = ::testing::TempDir() + "/calibrate_field_test";
 
-struct ToolRun {
-  int status = -1;
-  std::string output;  // stdout + stderr
-};
+using soccer_vision::test::ToolRun;
 
-ToolRun run(const std::string& args) {
-  const std::string cmd = std::string(CALIBRATE_FIELD_BIN) + " " + args + " 2>&1";
-  ToolRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+ToolRun run(const std::string& args) { return soccer_vision::test::runTool(CALIBRATE_FIELD_BIN, args); }
 
 class CalibrateField : public ::testing::Test {
  protected:

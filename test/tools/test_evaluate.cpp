@@ -17,6 +17,7 @@
 #include <sensor_msgs/Image.h>
 
 #include "soccer_vision/common/exchange_formats.h"
+#include "support/run_tool.h"
 
 using namespace soccer_vision;
 using nlohmann::json;
@@ -26,22 +27,9 @@ namespace {
 const std::string kDir = ::testing::TempDir() + "/evaluate_test";
 constexpr int kFrames = 90;
 
-struct Command {
-  int status = -1;
-  std::string output;
-};
+using soccer_vision::test::ToolRun;
 
-Command run(const std::string& args) {
-  const std::string cmd = std::string(EVALUATE_BIN) + " " + args + " 2>&1";
-  Command r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) r.output += buffer;
-  const int status = ::pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+ToolRun run(const std::string& args) { return soccer_vision::test::runTool(EVALUATE_BIN, args); }
 
 json readJson(const std::string& path) {
   std::ifstream in(path);
@@ -92,7 +80,7 @@ class Evaluate : public ::testing::Test {
 }  // namespace
 
 TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
-  const Command r = run("--bag " + kDir + "/s.bag --results " + kDir + "/results.jsonl --json " + kDir +
+  const ToolRun r = run("--bag " + kDir + "/s.bag --results " + kDir + "/results.jsonl --json " + kDir +
                         "/report.json --plots " + kDir + "/plots");
   ASSERT_EQ(r.status, 0) << r.output;
   std::printf("%s", r.output.c_str());
@@ -116,7 +104,7 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
 
   // Scoring the written results again, results-only, gives the same figures (the file
   // keeps 0.1 mm: the RMSE agrees to a fraction of that).
-  const Command again = run("--results-only --results " + kDir + "/results.jsonl --bag " + kDir +
+  const ToolRun again = run("--results-only --results " + kDir + "/results.jsonl --bag " + kDir +
                             "/s.bag --json " + kDir + "/again.json");
   ASSERT_EQ(again.status, 0) << again.output;
   const json a = readJson(kDir + "/again.json");
@@ -127,7 +115,7 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
 }
 
 TEST_F(Evaluate, FrameStepProcessesEveryNthFrame) {
-  const Command r =
+  const ToolRun r =
       run("--bag " + kDir + "/s.bag --frame-step 3 --skip-table2 --json " + kDir + "/step3.json");
   ASSERT_EQ(r.status, 0) << r.output;
   const json report = readJson(kDir + "/step3.json");
@@ -143,7 +131,7 @@ TEST_F(Evaluate, ResultsOnlyScoresExactlyTheHandCount) {
 
   std::vector<FrameRecord> results = perfectResults(truth);
   writeJsonLines(kDir + "/perfect.jsonl", results);
-  Command r = run("--results-only --results " + kDir + "/perfect.jsonl --truth " + kDir +
+  ToolRun r = run("--results-only --results " + kDir + "/perfect.jsonl --truth " + kDir +
                   "/truth.jsonl --json " + kDir + "/perfect.json");
   ASSERT_EQ(r.status, 0) << r.output;
   json j = readJson(kDir + "/perfect.json");
@@ -200,7 +188,7 @@ TEST_F(Evaluate, SkipsUnreadableImagesWithACount) {
       out.write(m.getTopic(), m.getTime(), m);
     }
   }
-  const Command r = run("--bag " + kDir + "/damaged.bag --skip-table2 --json " + kDir + "/damaged.json");
+  const ToolRun r = run("--bag " + kDir + "/damaged.bag --skip-table2 --json " + kDir + "/damaged.json");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("skipped: 1 images of unsupported encodings, 1 truncated, 0 of another size"),
             std::string::npos)
@@ -211,7 +199,7 @@ TEST_F(Evaluate, SkipsUnreadableImagesWithACount) {
 }
 
 TEST_F(Evaluate, BadInputsExitWithStatus2AndSayWhy) {
-  Command r = run("--bag " + kDir + "/missing.bag");
+  ToolRun r = run("--bag " + kDir + "/missing.bag");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("missing.bag"), std::string::npos) << r.output;
 

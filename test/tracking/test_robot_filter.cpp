@@ -14,13 +14,6 @@ constexpr double kDt = 1.0 / 60;
 
 }  // namespace
 
-TEST(Angle, WrapsIntoMinusPiPi) {
-  EXPECT_DOUBLE_EQ(wrapToPi(M_PI), M_PI);
-  EXPECT_DOUBLE_EQ(wrapToPi(-M_PI), M_PI);
-  EXPECT_NEAR(wrapToPi(3 * M_PI + 0.1), -M_PI + 0.1, 1e-12);
-  EXPECT_NEAR(wrapToPi(-0.2 - 4 * M_PI), -0.2, 1e-12);
-}
-
 TEST(RobotFilter, ConstantVelocityTargetConverges) {
   RobotFilterParams p;
   std::mt19937 rng(7);

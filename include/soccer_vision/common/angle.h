@@ -11,4 +11,7 @@ inline double wrapToPi(double a) {
   return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 
+// a - b wrapped to (-pi, pi]: the signed turn from b to a.
+inline double angleDifference(double a, double b) { return wrapToPi(a - b); }
+
 }  // namespace soccer_vision

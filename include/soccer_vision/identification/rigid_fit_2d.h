@@ -28,9 +28,4 @@ Pose2d fitRigid2d(const std::vector<Eigen::Vector2d>& model, const std::vector<E
                   const std::vector<double>& weights,
                   const std::optional<HeadingPrior>& prior = std::nullopt);
 
-// a - b wrapped to (-pi, pi].
-double angleDifference(double a, double b);
-// Angle wrapped to (-pi, pi].
-double wrapAngle(double a);
-
 }  // namespace soccer_vision

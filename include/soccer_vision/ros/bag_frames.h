@@ -73,8 +73,4 @@ class BagFrames {
   std::vector<BagCamera> cameras_;
 };
 
-// The message's pixels as a cv::Mat sharing its data, or an empty Mat when it is too
-// short for its size (`truncated`). `layout` must be the encoding's layout.
-cv::Mat imageView(const sensor_msgs::Image& msg, PixelLayout layout, bool* truncated = nullptr);
-
 }  // namespace soccer_vision

@@ -149,7 +149,5 @@ void registerFrameSource(const std::string& name, FrameSourceFactory factory);
 // Encoding helpers (ROS encoding names, no ROS dependency).
 // OpenCV type of an encoding, or -1 when unknown.
 int cvTypeForEncoding(const std::string& encoding);
-// cv::cvtColor code that demosaics a Bayer encoding to BGR, or -1 when not Bayer.
-int bayerToBgrCode(const std::string& encoding);
 
 }  // namespace soccer_vision

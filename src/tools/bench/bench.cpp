@@ -30,6 +30,7 @@
 
 #include "opencv_baseline.h"
 #include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
@@ -84,12 +85,6 @@ Options parseArgs(int argc, char** argv) {
   return o;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 template <typename F>
 double timeMs(F&& f) {
   const auto t0 = Clock::now();
@@ -141,7 +136,7 @@ struct Series {
   void add(const std::string& key, double v) { ms[key].push_back(v); }
   double med(const std::string& key) const {
     const auto it = ms.find(key);
-    return it == ms.end() ? 0 : median(it->second);
+    return it == ms.end() ? 0 : sv::percentile(it->second, 50);
   }
 };
 

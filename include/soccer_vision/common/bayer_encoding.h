@@ -1,0 +1,13 @@
+// Demosaicing a Bayer image of a ROS encoding ("bayer_rggb8", ...) with OpenCV: the one map
+// from ROS's names (the sensor's top-left 2x2 block) to OpenCV's (named after the second row).
+#pragma once
+
+#include <string>
+
+namespace soccer_vision {
+
+// cv::cvtColor code that demosaics a Bayer encoding (8 or 16 bit) to BGR, or -1 when the
+// encoding is not Bayer.
+int bayerToBgrCode(const std::string& encoding);
+
+}  // namespace soccer_vision

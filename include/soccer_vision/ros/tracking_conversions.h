@@ -1,0 +1,20 @@
+// The tracker's output as the Tracking nodelet publishes it (robots and balls topics).
+#pragma once
+
+#include <std_msgs/Header.h>
+
+#include "soccer_vision/BallPoseArray.h"
+#include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/tracking/tracker.h"
+
+namespace soccer_vision {
+
+// Every tracked robot with `header` (its own and each pose's): id on the wire
+// (toWireRobotId), theta NaN and omega 0 until the track has had a heading, camera id
+// clamped to 0..255.
+RobotPoseArray toRobotPoseArray(const TrackerOutput& out, const std_msgs::Header& header);
+
+// Every tracked ball, primary first, likewise.
+BallPoseArray toBallPoseArray(const TrackerOutput& out, const std_msgs::Header& header);
+
+}  // namespace soccer_vision

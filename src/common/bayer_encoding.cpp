@@ -1,0 +1,17 @@
+#include "soccer_vision/common/bayer_encoding.h"
+
+#include <opencv2/imgproc.hpp>
+
+namespace soccer_vision {
+
+int bayerToBgrCode(const std::string& e) {
+  // OpenCV names a Bayer layout after the second row's 2nd/3rd pixels, so a sensor whose
+  // top-left 2x2 block is R G / G B ("rggb") is OpenCV's BayerBG (as in cv_bridge).
+  if (e == "bayer_rggb8" || e == "bayer_rggb16") return cv::COLOR_BayerBG2BGR;
+  if (e == "bayer_bggr8" || e == "bayer_bggr16") return cv::COLOR_BayerRG2BGR;
+  if (e == "bayer_gbrg8" || e == "bayer_gbrg16") return cv::COLOR_BayerGR2BGR;
+  if (e == "bayer_grbg8" || e == "bayer_grbg16") return cv::COLOR_BayerGB2BGR;
+  return -1;
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,29 @@
+#include "soccer_vision/ros/image_message.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace soccer_vision {
+
+namespace {
+
+int cvTypeOf(PixelLayout layout) { return isBayer(layout) ? CV_8UC1 : CV_8UC3; }
+
+}  // namespace
+
+bool imageMessageIsConsistent(const sensor_msgs::Image& msg, PixelLayout layout) {
+  const std::size_t row = static_cast<std::size_t>(msg.width) * CV_ELEM_SIZE(cvTypeOf(layout));
+  return msg.width > 0 && msg.height > 0 && msg.step >= row &&
+         msg.data.size() >= static_cast<std::size_t>(msg.step) * msg.height &&
+         (!isBayer(layout) || (msg.width % 2 == 0 && msg.height % 2 == 0));
+}
+
+cv::Mat imageView(const sensor_msgs::Image& msg, PixelLayout layout, bool* malformed) {
+  const bool bad = !imageMessageIsConsistent(msg, layout);
+  if (malformed) *malformed = bad;
+  if (bad) return {};
+  return cv::Mat(static_cast<int>(msg.height), static_cast<int>(msg.width), cvTypeOf(layout),
+                 const_cast<std::uint8_t*>(msg.data.data()), msg.step);
+}
+
+}  // namespace soccer_vision
