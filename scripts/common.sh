@@ -26,6 +26,7 @@ DEBIAN_PACKAGES+=( libx11-dev )  # the rviz screenshot test reads the X display
 DEBIAN_PACKAGES+=( python3-yaml )  # scripts/nodelet_docs and test/docs read cfg/*.params.yaml
 DEBIAN_PACKAGES+=( libcli11-dev )  # the tools' command lines
 DEBIAN_PACKAGES+=( ccache )  # rebuilds of other checkouts and of the sanitizer workspace are cheap
+DEBIAN_PACKAGES+=( clang-format )  # test/style checks that the C++ sources are formatted
 
 install_missing() {
   local missing=()

@@ -37,6 +37,7 @@
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -51,35 +52,19 @@ struct Options {
   int repeat = 1;
 };
 
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--scenario")
-      o.scenario_path = value();
-    else if (a == "--frames")
-      o.frames = std::stoi(value());
-    else if (a == "--width")
-      o.width = std::stoi(value());
-    else if (a == "--height")
-      o.height = std::stoi(value());
-    else if (a == "--json")
-      o.json = value();
-    else if (a == "--cold")
-      o.cold = true;
-    else if (a == "--repeat")
-      o.repeat = std::stoi(value());
-    else
-      throw std::invalid_argument("unknown argument '" + a +
-                                  "' (--scenario, --frames, --width, --height, --cold, --repeat, --json)");
-  }
-  if (o.frames < 10) throw std::invalid_argument("--frames must be >= 10");
-  if (o.repeat < 1) throw std::invalid_argument("--repeat must be >= 1");
-  return o;
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--scenario", o.scenario_path,
+                 "scenario preset: a name or a YAML file (default: the embedded one)");
+  app.add_option("--frames", o.frames, "frames per pass")
+      ->check(CLI::Range(10, 1000000))
+      ->capture_default_str();
+  app.add_option("--width", o.width, "[px] image width; 0: the scenario's")->check(CLI::Range(0, 16384));
+  app.add_option("--height", o.height, "[px] image height; 0: the scenario's")->check(CLI::Range(0, 16384));
+  app.add_option("--json", o.json, "write the figures as JSON");
+  app.add_flag("--cold", o.cold, "process frames straight from memory");
+  app.add_option("--repeat", o.repeat, "passes, each with a fresh pipeline; per frame the fastest counts")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
 }
 
 // A preset name is looked up in this source tree's presets; anything else is a path.
@@ -96,8 +81,12 @@ double ms(Clock::time_point a, Clock::time_point b) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"bench_pipeline: the whole pipeline's processing latency per frame (docs/performance.md)",
+               "bench_pipeline"};
+  addOptions(app, o);
+  if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
   try {
-    const Options o = parse(argc, argv);
     const std::string path = presetPath(o.scenario_path);
     sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
     if (o.width > 0) scenario.width = o.width;

@@ -29,11 +29,11 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "command_line.h"
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/segmenter.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 
@@ -48,64 +48,48 @@ struct Options {
   sv::CalibrationLight light = sv::CalibrationLight::Normalized;
 };
 
-void usage() {
-  std::cerr << "usage: calibrate_colors --image A.png [--image B.png ...] --samples S.yaml "
-               "[--samples ...]\n"
-               "         --out TABLE.svct [--preview PREVIEW.png] [--threshold-lab X] "
-               "[--threshold-h DEG]\n"
-               "         [--bins H,S,V] [--v-margin N] [--light normalized|as-captured]\n"
-               "images and samples pair up in order; one samples file may serve every image\n";
+void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& light) {
+  app.add_option("--image", o.images, "calibration image (PNG, BGR); repeat for more")
+      ->required()
+      ->take_all();
+  app.add_option("--samples", o.samples, "sample polygons (YAML) per image, or one for all; repeat for more")
+      ->required()
+      ->take_all();
+  app.add_option("--out", o.out, "the colour table to write (.svct)")->required();
+  app.add_option("--preview", o.preview, "write the first image beside its classification (PNG)");
+  app.add_option("--threshold-lab", o.params.threshold_lab, "CIE76 distance to a class's mean Lab")
+      ->capture_default_str();
+  app.add_option("--threshold-h", o.params.threshold_h, "[deg] hue distance to a class's mean hue")
+      ->capture_default_str();
+  app.add_option("--bins", bins, "H,S,V bins of the table (default 90,16,16)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  app.add_option("--v-margin", o.params.v_margin, "V bins added below and above a class's samples")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
+      ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
+      ->capture_default_str();
 }
 
-Options parseArgs(int argc, char** argv) {
-  Options o;
-  for (sv::CommandLine args(argc, argv); args.next();) {
-    const std::string& a = args.flag();
-    if (a == "--image") {
-      o.images.push_back(args.value());
-    } else if (a == "--samples") {
-      o.samples.push_back(args.value());
-    } else if (a == "--out") {
-      o.out = args.value();
-    } else if (a == "--preview") {
-      o.preview = args.value();
-    } else if (a == "--threshold-lab") {
-      o.params.threshold_lab = args.number();
-    } else if (a == "--threshold-h") {
-      o.params.threshold_h = args.number();
-    } else if (a == "--bins") {
-      const std::vector<std::string> bins = args.list();
-      if (bins.size() != 3) throw std::invalid_argument("--bins takes H,S,V");
-      o.params.h_bins = sv::parseInteger(a, bins[0], 1);
-      o.params.s_bins = sv::parseInteger(a, bins[1], 1);
-      o.params.v_bins = sv::parseInteger(a, bins[2], 1);
-    } else if (a == "--v-margin") {
-      o.params.v_margin = args.integer(0);
-    } else if (a == "--light") {
-      const std::string v = args.value();
-      if (v == "normalized") {
-        o.light = sv::CalibrationLight::Normalized;
-      } else if (v == "as-captured") {
-        o.light = sv::CalibrationLight::AsCaptured;
-      } else {
-        throw std::invalid_argument("--light takes normalized or as-captured, got '" + v + "'");
-      }
-    } else if (a == "--help" || a == "-h") {
-      usage();
-      std::exit(0);
-    } else {
-      throw std::invalid_argument("unknown argument '" + a + "'");
-    }
+// Options that do not go together, bins and thresholds out of range: a message, or "".
+std::string optionProblem(Options& o, const std::vector<int>& bins, const std::string& light) {
+  if (!bins.empty()) {
+    if (bins.size() != 3) return "--bins takes H,S,V";
+    o.params.h_bins = bins[0];
+    o.params.s_bins = bins[1];
+    o.params.v_bins = bins[2];
   }
-  if (o.images.empty()) throw std::invalid_argument("at least one --image is required");
-  if (o.samples.empty()) throw std::invalid_argument("at least one --samples is required");
+  o.light = light == "as-captured" ? sv::CalibrationLight::AsCaptured : sv::CalibrationLight::Normalized;
   if (o.samples.size() != 1 && o.samples.size() != o.images.size())
-    throw std::invalid_argument(std::to_string(o.images.size()) + " images but " +
-                                std::to_string(o.samples.size()) +
-                                " samples files: give one per image or one for all");
-  if (o.out.empty()) throw std::invalid_argument("--out is required");
-  o.params.validate();  // bins and thresholds in range (throws std::invalid_argument)
-  return o;
+    return std::to_string(o.images.size()) + " images but " + std::to_string(o.samples.size()) +
+           " samples files: give one per image or one for all";
+  try {
+    o.params.validate();  // bins and thresholds in range
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
 }
 
 std::vector<sv::CalibrationImage> loadInputs(const Options& o) {
@@ -197,13 +181,15 @@ void writePreview(const std::string& path, const sv::ColorTable& table, const cv
 
 int main(int argc, char** argv) {
   Options o;
-  try {
-    o = parseArgs(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "calibrate_colors: " << e.what() << "\n";
-    usage();
-    return 2;
-  }
+  std::vector<int> bins;
+  std::string light = "normalized";
+  CLI::App app{
+      "calibrate_colors: a colour table (.svct) from images and sample polygons (docs/calibration.md)",
+      "calibrate_colors"};
+  addOptions(app, o, bins, light);
+  if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
+  if (const std::string problem = optionProblem(o, bins, light); !problem.empty())
+    return sv::usageError(app, problem);
   try {
     const std::vector<sv::CalibrationImage> inputs = loadInputs(o);
     checkSamplesSelectPixels(o, inputs);

@@ -20,11 +20,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "command_line.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 
@@ -36,42 +36,18 @@ struct Options {
   double max_rms = 2.0;
 };
 
-void usage() {
-  std::cerr << "usage: calibrate_field --camera-info CAMERA_INFO.yaml --points FIELD_POINTS.yaml --out "
-               "CAMERA_POSE.yaml\n"
-               "         [--camera-id N] [--child-frame-id FRAME] [--max-rms PX]\n";
-}
-
-Options parseArgs(int argc, char** argv) {
-  Options o;
-  for (sv::CommandLine args(argc, argv); args.next();) {
-    const std::string& a = args.flag();
-    if (a == "--camera-info")
-      o.camera_info = args.value();
-    else if (a == "--points")
-      o.points = args.value();
-    else if (a == "--out")
-      o.out = args.value();
-    else if (a == "--child-frame-id")
-      o.child_frame_id = args.value();
-    else if (a == "--camera-id") {
-      o.camera_id = args.integer(0);
-    } else if (a == "--max-rms") {
-      o.max_rms = args.number();
-      if (o.max_rms <= 0) throw std::invalid_argument("--max-rms must be positive");
-    } else if (a == "--help" || a == "-h") {
-      usage();
-      std::exit(0);
-    } else {
-      throw std::invalid_argument("unknown argument '" + a + "'");
-    }
-  }
-  if (o.camera_info.empty() || o.points.empty() || o.out.empty()) {
-    throw std::invalid_argument("--camera-info, --points and --out are required");
-  }
-  if (o.child_frame_id.empty() && o.camera_id)
-    o.child_frame_id = "camera_" + std::to_string(*o.camera_id) + "_optical";
-  return o;
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--camera-info", o.camera_info, "the camera's intrinsics (camera_info YAML)")->required();
+  app.add_option("--points", o.points, "pixel <-> field correspondences (field points YAML)")->required();
+  app.add_option("--out", o.out, "the camera pose to write (YAML)")->required();
+  app.add_option_function<int>(
+         "--camera-id", [&o](const int& id) { o.camera_id = id; },
+         "camera id (names the child frame camera_<id>_optical)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--child-frame-id", o.child_frame_id, "tf child frame of the pose");
+  app.add_option("--max-rms", o.max_rms, "[px] largest reprojection RMS accepted (exit status 3 beyond)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 }
 
 int run(const Options& o) {
@@ -119,13 +95,13 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  try {
-    o = parseArgs(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "calibrate_field: " << e.what() << "\n";
-    usage();
-    return 2;
-  }
+  CLI::App app{
+      "calibrate_field: a camera's pose in field from pixel <-> field correspondences (docs/calibration.md)",
+      "calibrate_field"};
+  addOptions(app, o);
+  if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
+  if (o.child_frame_id.empty() && o.camera_id)
+    o.child_frame_id = "camera_" + std::to_string(*o.camera_id) + "_optical";
   try {
     return run(o);
   } catch (const std::exception& e) {

@@ -5,8 +5,9 @@
 // a table without any file shipped.
 //
 //   rosrun soccer_vision calibrate_synthetic --out table.svct [--scenario NAME|FILE.yaml]
-//       (also --key=value)
 //       [--camera 0] [--width W --height H]
+// (also --key=value; an empty --scenario= is the embedded scenario; roslaunch's __name:=
+// remappings are ignored)
 //
 // Bayer scenarios are calibrated on the colour image the mosaic samples (the classifier
 // reads each 2x2 quad as one colour). The file is written to a temporary name and renamed,
@@ -23,6 +24,7 @@
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/simulation/scenario.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 
@@ -33,60 +35,26 @@ struct Options {
   int camera = 0, width = 0, height = 0;
 };
 
-int toInt(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  int v = 0;
-  try {
-    v = std::stoi(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty())
-    throw std::invalid_argument(option + " needs an integer, got '" + text + "'");
-  return v;
-}
-
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a.rfind("__", 0) == 0) continue;  // roslaunch's __name:= and __log:= remappings
-    // --key=value (an empty value survives roslaunch's argument splitting only this way).
-    std::optional<std::string> inline_value;
-    if (const auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
-      inline_value = a.substr(eq + 1);
-      a = a.substr(0, eq);
-    }
-    auto value = [&]() -> std::string {
-      if (inline_value) return *inline_value;
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--out")
-      o.out = value();
-    else if (a == "--scenario")
-      o.scenario = value();
-    else if (a == "--camera")
-      o.camera = toInt(a, value());
-    else if (a == "--width")
-      o.width = toInt(a, value());
-    else if (a == "--height")
-      o.height = toInt(a, value());
-    else
-      throw std::invalid_argument("unknown argument '" + a +
-                                  "' (--out, --scenario, --camera, --width, --height)");
-  }
-  if (o.out.empty()) throw std::invalid_argument("--out is required");
-  if (o.camera < 0 || o.camera > 1) throw std::invalid_argument("--camera must be 0 or 1");
-  if (o.width < 0 || o.height < 0) throw std::invalid_argument("--width/--height must be >= 0");
-  return o;
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--out", o.out, "the colour table to write (.svct)")->required();
+  app.add_option("--scenario", o.scenario,
+                 "scenario preset: a name or a YAML file (default: the embedded one)");
+  app.add_option("--camera", o.camera, "synthetic camera: 0 or 1")
+      ->check(CLI::Range(0, 1))
+      ->capture_default_str();
+  app.add_option("--width", o.width, "[px] image width; 0: the scenario's")->check(CLI::Range(0, 16384));
+  app.add_option("--height", o.height, "[px] image height; 0: the scenario's")->check(CLI::Range(0, 16384));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"calibrate_synthetic: the colour table of a synthetic camera (docs/tools.md)",
+               "calibrate_synthetic"};
+  addOptions(app, o);
+  if (const auto status = sv::parseLaunchedCommandLine(app, argc, argv)) return *status;
   try {
-    const Options o = parse(argc, argv);
     const std::string path = sv::resolveScenarioPath(o.scenario);
     sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
     if (o.width > 0) scenario.width = o.width;

@@ -48,6 +48,7 @@
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/evaluation/scoring.h"
 #include "soccer_vision/ros/conversions.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 
@@ -153,13 +154,6 @@ void printTrackingScore(const Monitor& m) {
               1e3 * score.ballPositionRmse());
 }
 
-void usage() {
-  std::fprintf(stderr,
-               "usage: demo_monitor [--duration SECONDS] [--snapshot PATH]\n"
-               "  watches <~camera>/image_raw (+ camera_info, ground truth), prints a summary\n"
-               "  and writes an annotated snapshot; exits 1 if no frame arrived.\n");
-}
-
 // Draws the ground truth of one frame onto `bgr` (ground truth projected with the
 // synthetic camera model).
 void annotate(cv::Mat& bgr, const sv::CameraModel& camera,
@@ -211,29 +205,16 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "demo_monitor");  // strips remapping arguments (__name:= ...)
   double duration = -1;
   std::string snapshot;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if ((a == "--duration" || a == "--snapshot") && i + 1 < argc) {
-      const std::string v = argv[++i];
-      if (a == "--snapshot") {
-        snapshot = v;
-        continue;
-      }
-      char* end = nullptr;
-      duration = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != '\0' || duration < 0) {
-        std::fprintf(stderr, "demo_monitor: bad --duration '%s'\n", v.c_str());
-        return 2;
-      }
-    } else if (a == "-h" || a == "--help") {
-      usage();
-      return 0;
-    } else {
-      std::fprintf(stderr, "demo_monitor: unknown argument '%s'\n", a.c_str());
-      usage();
-      return 2;
-    }
-  }
+  CLI::App app{
+      "demo_monitor: watches <~camera>/image_raw (+ camera_info, ground truth) and the tracking\n"
+      "outputs, prints a summary and writes an annotated snapshot; exits 1 if no frame arrived.\n"
+      "Private parameters (_camera:=/camera_0 _camera_id:=0 _vision:=/vision _field:=div_b,\n"
+      "~duration, ~snapshot) as in docs/tools.md",
+      "demo_monitor"};
+  app.add_option("--duration", duration, "[s] run time (wins over ~duration); 0: until Ctrl-C")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--snapshot", snapshot, "the annotated snapshot to write (wins over ~snapshot)");
+  if (const auto status = sv::parseLaunchedCommandLine(app, argc, argv)) return *status;
 
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");

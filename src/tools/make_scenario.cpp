@@ -33,6 +33,7 @@
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 
@@ -49,58 +50,22 @@ struct Options {
   std::string compression = "lz4";
 };
 
-void usage() {
-  std::cerr << "usage: make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag\n"
-               "         [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]\n"
-               "         [--compression lz4|bz2|none]\n"
-               "presets: config/scenarios/*.yaml of the soccer_vision package\n";
-}
-
-Options parseArgs(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--preset")
-      o.preset = value();
-    else if (a == "--frames")
-      o.frames = std::stoi(value());
-    else if (a == "--out")
-      o.out = value();
-    else if (a == "--width")
-      o.width = std::stoi(value());
-    else if (a == "--height")
-      o.height = std::stoi(value());
-    else if (a == "--seed")
-      o.seed = std::stoll(value());
-    else if (a == "--start")
-      o.start = std::stod(value());
-    else if (a == "--compression")
-      o.compression = value();
-    else if (a == "--cameras") {
-      o.cameras.clear();
-      std::stringstream ss(value());
-      for (std::string c; std::getline(ss, c, ',');) o.cameras.push_back(std::stoi(c));
-    } else if (a == "--help" || a == "-h") {
-      usage();
-      std::exit(0);
-    } else {
-      throw std::runtime_error("unknown argument '" + a + "'");
-    }
-  }
-  if (o.preset.empty() || o.out.empty() || o.frames <= 0) {
-    throw std::runtime_error("--preset, --out and a positive --frames are required");
-  }
-  for (int c : o.cameras) {
-    if (c != 0 && c != 1) throw std::runtime_error("--cameras takes 0 and/or 1");
-  }
-  if (o.compression != "lz4" && o.compression != "bz2" && o.compression != "none") {
-    throw std::runtime_error("--compression must be lz4, bz2 or none");
-  }
-  return o;
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--preset", o.preset, "scenario preset: a name of config/scenarios/ or a YAML file")
+      ->required();
+  app.add_option("--frames", o.frames, "frames to render")->required()->check(CLI::Range(1, 10000000));
+  app.add_option("--out", o.out, "the bag to write; the exchange files go beside it")->required();
+  app.add_option("--cameras", o.cameras, "synthetic cameras to record: 0 and/or 1")
+      ->delimiter(',')
+      ->check(CLI::IsMember({0, 1}))
+      ->capture_default_str();
+  app.add_option("--width", o.width, "[px] image width; 0: the preset's")->check(CLI::Range(0, 16384));
+  app.add_option("--height", o.height, "[px] image height; 0: the preset's")->check(CLI::Range(0, 16384));
+  app.add_option("--seed", o.seed, "random seed of the game (default: the preset's)");
+  app.add_option("--start", o.start, "[s] capture stamp of frame 0")->capture_default_str();
+  app.add_option("--compression", o.compression, "bag chunk compression")
+      ->check(CLI::IsMember(std::vector<std::string>{"lz4", "bz2", "none"}))
+      ->capture_default_str();
 }
 
 std::string directoryOf(const std::string& path) {
@@ -250,11 +215,17 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{
+      "make_scenario: renders a scenario preset into a rosbag with its ground truth and the\n"
+      "exchange files beside it (docs/tools.md)",
+      "make_scenario"};
+  addOptions(app, o);
+  if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
   try {
-    return run(parseArgs(argc, argv));
+    return run(o);
   } catch (const std::exception& e) {
     std::cerr << "make_scenario: " << e.what() << "\n";
-    usage();
     return 2;
   }
 }

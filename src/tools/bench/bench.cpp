@@ -35,6 +35,7 @@
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -50,39 +51,38 @@ struct Options {
   std::vector<cv::Size> resolutions = {{780, 580}, {1280, 1024}, {2448, 2048}};
 };
 
-Options parseArgs(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--json")
-      o.json = value();
-    else if (a == "--frames")
-      o.frames = std::max(1, std::stoi(value()));
-    else if (a == "--repeat")
-      o.repeat = std::max(1, std::stoi(value()));
-    else if (a == "--windows-only")
-      o.windows_only = true;
-    else if (a == "--regions")
-      o.regions = value();
-    else if (a == "--resolutions") {
-      o.resolutions.clear();
-      std::stringstream ss(value());
-      for (std::string r; std::getline(ss, r, ',');) {
-        const auto x = r.find('x');
-        if (x == std::string::npos) throw std::runtime_error("resolution '" + r + "' is not WxH");
-        o.resolutions.emplace_back(std::stoi(r.substr(0, x)), std::stoi(r.substr(x + 1)));
-      }
-    } else {
-      throw std::runtime_error(
-          "unknown argument '" + a +
-          "' (--json FILE, --frames N, --repeat R, --resolutions WxH,..., --windows-only, --regions FILE)");
-    }
+void addOptions(CLI::App& app, Options& o, std::vector<std::string>& resolutions) {
+  app.add_option("--json", o.json, "write the figures as JSON");
+  app.add_option("--frames", o.frames, "frames per resolution")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--repeat", o.repeat, "passes over the frames")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--resolutions", resolutions, "WxH,... (default 780x580,1280x1024,2448x2048)")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& r) -> std::string {
+            int w = 0, h = 0;
+            char end = 0;
+            if (std::sscanf(r.c_str(), "%dx%d%c", &w, &h, &end) != 2 || w < 2 || h < 2 || w > 16384 ||
+                h > 16384)
+              return "resolution '" + r + "' is not WxH (2..16384 each)";
+            return "";
+          },
+          "WxH", "resolution"));
+  app.add_flag("--windows-only", o.windows_only, "run the windowed segmentation alone (for a profiler)");
+  app.add_option("--regions", o.regions, "write every region found, all digits (compare builds with diff)");
+}
+
+std::vector<cv::Size> parseResolutions(const std::vector<std::string>& texts) {
+  std::vector<cv::Size> sizes;
+  for (const std::string& r : texts) {
+    int w = 0, h = 0;
+    std::sscanf(r.c_str(), "%dx%d", &w, &h);  // checked by the option's validator
+    sizes.emplace_back(w, h);
   }
-  return o;
+  return sizes;
 }
 
 template <typename F>
@@ -278,8 +278,13 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* 
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options o;
+  std::vector<std::string> resolutions;
+  CLI::App app{"bench: the segmentation benchmark (docs/performance.md)", "bench"};
+  addOptions(app, o, resolutions);
+  if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
+  if (!resolutions.empty()) o.resolutions = parseResolutions(resolutions);
   try {
-    const Options o = parseArgs(argc, argv);
     cv::setNumThreads(1);  // one thread for everyone: the comparison is per core
     nlohmann::json report;
     report["threads"] = 1;

@@ -55,7 +55,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
-#include "command_line.h"
 #include "evaluate_report.h"
 #include "evaluation_plots.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
@@ -67,6 +66,7 @@
 #include "soccer_vision/ros/bag_frames.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/tracking/result_recording.h"
+#include "tool_command_line.h"
 
 namespace sv = soccer_vision;
 using Clock = std::chrono::steady_clock;
@@ -83,85 +83,59 @@ struct Options {
   bool windows = true, table2 = true, sweep = false, results_only = false;
 };
 
-void usage() {
-  std::cerr
-      << "usage: evaluate --bag FILE [--truth truth.jsonl]\n"
-         "         [--colors T.svct[,..] | --samples S.yaml[,..] [--calibration-image P.png[,..]]]\n"
-         "         [--field-points F.yaml[,..] | --camera-pose C.yaml[,..]] [--patterns "
-         "two_tag|ssl|team_only|FILE]\n"
-         "         [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]\n"
-         "         [--measurement-offset S[,S1]]\n"
-         "         [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]\n"
-         "         [--markdown section.md [--title TEXT]]\n"
-         "       evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)\n"
-         "         [--json report.json] [--plots DIR]\n";
+// The options (docs/tools.md); which go together is checked by combinationProblem.
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--bag", o.bag, "recording of make_scenario or of a camera (image_raw, camera_info)");
+  app.add_option("--truth", o.truth,
+                 "ground truth JSON Lines (default: the bag's ground-truth topics, else truth.jsonl beside it)");
+  app.add_option("--results", o.results,
+                 "write (or with --results-only read) the tracker's results, JSON Lines");
+  app.add_option("--json", o.json, "write the report as JSON");
+  app.add_option("--plots", o.plots, "write the report's figures (PNG) into this directory");
+  app.add_option("--markdown", o.markdown, "write the report as a Markdown section");
+  app.add_option("--title", o.title, "title of the Markdown section (default: the bag's path)");
+  app.add_option("--patterns", o.patterns, "marker patterns: two_tag, ssl, team_only or a pattern file")
+      ->capture_default_str();
+  app.add_option("--colors", o.colors, "colour table per camera (.svct), comma-separated")->delimiter(',');
+  app.add_option("--samples", o.samples, "calibrate from colour samples per camera instead, comma-separated")
+      ->delimiter(',');
+  app.add_option("--calibration-image", o.calibration_images, "image per camera the samples are on (PNG)")
+      ->delimiter(',');
+  app.add_option("--field-points", o.field_points, "field points per camera to solve its pose from")
+      ->delimiter(',');
+  app.add_option("--camera-pose", o.camera_poses, "camera pose file per camera instead")->delimiter(',');
+  app.add_option("--measurement-offset", o.measurement_offsets,
+                 "[s] per camera: where in its exposure a frame shows the objects")
+      ->delimiter(',');
+  app.add_option("--cameras", o.cameras, "camera ids to evaluate (default: every camera of the bag)")
+      ->delimiter(',')
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--frame-step", o.frame_step, "process every N-th frame")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--window-side", o.window_side, "[px] search window side at 1280 px width")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_flag_callback(
+      "--no-windows", [&o] { o.windows = false; }, "segment whole frames only");
+  app.add_flag_callback(
+      "--skip-table2", [&o] { o.table2 = false; }, "skip the run without search windows");
+  app.add_flag("--sweep", o.sweep, "also run Table I: frame step 1-4 x window side 50-400 px");
+  app.add_flag("--results-only", o.results_only, "score --results against the truth, without running");
 }
 
-Options parse(int argc, char** argv) {
-  Options o;
-  for (sv::CommandLine args(argc, argv); args.next();) {
-    const std::string& a = args.flag();
-    if (a == "--bag")
-      o.bag = args.value();
-    else if (a == "--truth")
-      o.truth = args.value();
-    else if (a == "--results")
-      o.results = args.value();
-    else if (a == "--json")
-      o.json = args.value();
-    else if (a == "--plots")
-      o.plots = args.value();
-    else if (a == "--markdown")
-      o.markdown = args.value();
-    else if (a == "--title")
-      o.title = args.value();
-    else if (a == "--patterns")
-      o.patterns = args.value();
-    else if (a == "--colors")
-      o.colors = args.list();
-    else if (a == "--samples")
-      o.samples = args.list();
-    else if (a == "--calibration-image")
-      o.calibration_images = args.list();
-    else if (a == "--field-points")
-      o.field_points = args.list();
-    else if (a == "--camera-pose")
-      o.camera_poses = args.list();
-    else if (a == "--measurement-offset") {
-      for (const std::string& v : args.list()) o.measurement_offsets.push_back(sv::parseNumber(a, v));
-    } else if (a == "--cameras") {
-      for (const std::string& c : args.list()) o.cameras.push_back(sv::parseInteger(a, c, 0));
-    } else if (a == "--frame-step")
-      o.frame_step = args.integer(1);
-    else if (a == "--window-side")
-      o.window_side = args.integer(1);
-    else if (a == "--no-windows")
-      o.windows = false;
-    else if (a == "--skip-table2")
-      o.table2 = false;
-    else if (a == "--sweep")
-      o.sweep = true;
-    else if (a == "--results-only")
-      o.results_only = true;
-    else if (a == "--help" || a == "-h") {
-      usage();
-      std::exit(0);
-    } else
-      throw std::invalid_argument("unknown argument '" + a + "'");
-  }
+// Options that do not go together, or "" when they do.
+std::string combinationProblem(const Options& o) {
   if (o.results_only) {
-    if (o.results.empty()) throw std::invalid_argument("--results-only needs --results FILE");
-    if (o.truth.empty() && o.bag.empty())
-      throw std::invalid_argument("--results-only needs --truth FILE or --bag FILE");
+    if (o.results.empty()) return "--results-only needs --results FILE";
+    if (o.truth.empty() && o.bag.empty()) return "--results-only needs --truth FILE or --bag FILE";
   } else if (o.bag.empty()) {
-    throw std::invalid_argument("--bag FILE is required");
+    return "--bag FILE is required";
   }
-  if (!o.colors.empty() && !o.samples.empty())
-    throw std::invalid_argument("give --colors or --samples, not both");
-  if (!o.field_points.empty() && !o.camera_poses.empty()) {
-    throw std::invalid_argument("give --field-points or --camera-pose, not both");
-  }
-  return o;
+  if (!o.colors.empty() && !o.samples.empty()) return "give --colors or --samples, not both";
+  if (!o.field_points.empty() && !o.camera_poses.empty())
+    return "give --field-points or --camera-pose, not both";
+  return "";
 }
 
 bool fileExists(const std::string& path) {
@@ -693,13 +667,17 @@ int evaluateBag(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{
+      "evaluate: runs the vision pipeline on a recording and scores it against the ground truth\n"
+      "(or scores a results file with --results-only); docs/tools.md, docs/evaluation.md",
+      "evaluate"};
+  addOptions(app, o);
+  if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
+  if (const std::string problem = combinationProblem(o); !problem.empty())
+    return sv::usageError(app, problem);
   try {
-    const Options o = parse(argc, argv);
     return o.results_only ? resultsOnly(o) : evaluateBag(o);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "evaluate: " << e.what() << "\n";
-    usage();
-    return 2;
   } catch (const std::exception& e) {
     std::cerr << "evaluate: " << e.what() << "\n";
     return 2;
