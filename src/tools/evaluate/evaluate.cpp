@@ -86,8 +86,9 @@ struct Options {
 // The options (docs/tools.md); which go together is checked by combinationProblem.
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("--bag", o.bag, "recording of make_scenario or of a camera (image_raw, camera_info)");
-  app.add_option("--truth", o.truth,
-                 "ground truth JSON Lines (default: the bag's ground-truth topics, else truth.jsonl beside it)");
+  app.add_option(
+      "--truth", o.truth,
+      "ground truth JSON Lines (default: the bag's ground-truth topics, else truth.jsonl beside it)");
   app.add_option("--results", o.results,
                  "write (or with --results-only read) the tracker's results, JSON Lines");
   app.add_option("--json", o.json, "write the report as JSON");
