@@ -63,9 +63,9 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
       ->capture_default_str();
   app.add_option("--bins", bins, "H,S,V bins of the table (default 90,16,16)")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 720));
   app.add_option("--v-margin", o.params.v_margin, "V bins added below and above a class's samples")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, 255))
       ->capture_default_str();
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))

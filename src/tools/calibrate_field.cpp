@@ -43,10 +43,10 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option_function<int>(
          "--camera-id", [&o](const int& id) { o.camera_id = id; },
          "camera id (names the child frame camera_<id>_optical)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 255));
   app.add_option("--child-frame-id", o.child_frame_id, "tf child frame of the pose");
   app.add_option("--max-rms", o.max_rms, "[px] largest reprojection RMS accepted (exit status 3 beyond)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(0.001, 1000.0))
       ->capture_default_str();
 }
 

@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
       "~duration, ~snapshot) as in docs/tools.md",
       "demo_monitor"};
   app.add_option("--duration", duration, "[s] run time (wins over ~duration); 0: until Ctrl-C")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 1e6));
   app.add_option("--snapshot", snapshot, "the annotated snapshot to write (wins over ~snapshot)");
   if (const auto status = sv::parseLaunchedCommandLine(app, argc, argv)) return *status;
 

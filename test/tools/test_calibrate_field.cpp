@@ -118,6 +118,6 @@ TEST_F(CalibrateField, BadInputGivesNonZeroExitAndAClearMessage) {
   EXPECT_NE(r.output.find("--camera-info"), std::string::npos);
   r = run("--camera-info " + info + " --points " + points + " --out " + out + " --max-rms abc");
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.output.find("--max-rms = abc"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--max-rms: Value abc"), std::string::npos) << r.output;
   EXPECT_EQ(std::system(("test -e " + out).c_str()) == 0, false) << "no pose must be written on failure";
 }

@@ -110,7 +110,7 @@ void addOptions(CLI::App& app, Options& o) {
       ->delimiter(',');
   app.add_option("--cameras", o.cameras, "camera ids to evaluate (default: every camera of the bag)")
       ->delimiter(',')
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 255));
   app.add_option("--frame-step", o.frame_step, "process every N-th frame")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
