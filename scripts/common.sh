@@ -25,6 +25,9 @@ DEBIAN_PACKAGES+=( libaravis-dev aravis-tools libopencv-videoio-dev pkg-config l
 DEBIAN_PACKAGES+=( libx11-dev )  # the rviz screenshot test reads the X display
 DEBIAN_PACKAGES+=( python3-yaml )  # scripts/nodelet_docs and test/docs read cfg/*.params.yaml
 DEBIAN_PACKAGES+=( libcli11-dev )  # the tools' command lines
+DEBIAN_PACKAGES+=( libprotobuf-dev protobuf-compiler python3-protobuf )  # the SSL packets (src/ssl, proto/) and their Python decoding tests
+DEBIAN_PACKAGES+=( libcpp-httplib-dev )  # the calibration UI's HTTP server
+DEBIAN_PACKAGES+=( chromium chromium-driver python3-selenium )  # the calibration UI's browser test
 DEBIAN_PACKAGES+=( ccache )  # rebuilds of other checkouts and of the sanitizer workspace are cheap
 DEBIAN_PACKAGES+=( clang-format )  # test/style checks that the C++ sources are formatted
 

@@ -150,6 +150,18 @@ CameraPoseSolution solveCameraPose(const CameraIntrinsics& k, const std::vector<
     field.push_back(pts[i].field);
     pixels.push_back(pts[i].pixel);
   }
+  // A point given twice adds no constraint: 4 points of which 3 are distinct once passed.
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (std::size_t j = i + 1; j < pts.size(); ++j) {
+      const bool same_field = (field[i] - field[j]).norm() < 1e-6;
+      const bool same_pixel = (pixels[i] - pixels[j]).norm() < 1e-6;
+      if (same_field || same_pixel) {
+        throw std::invalid_argument("camera pose: correspondences " + std::to_string(i) + " and " +
+                                    std::to_string(j) + " have the same " +
+                                    (same_field ? "field point" : "pixel") + ": the points must be distinct");
+      }
+    }
+  }
   const Eigen::Vector3d s3 = spread<3>(field);
   if (s3[1] < params.min_spread) {
     throw std::invalid_argument(

@@ -4,9 +4,18 @@
 #include <iterator>
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
 #include "soccer_vision/segmentation/illumination_adaptation.h"
 
 namespace soccer_vision {
+namespace {
+
+// Pixels around a marker sample that are not background: a polygon drawn 2 px inside a
+// marker leaves its rim, and blur and the lens spread the colour a little farther.
+constexpr int kMarkerMargin = 4;
+
+}  // namespace
 
 cv::Mat classifiedColors(const cv::Mat& image, PixelLayout layout) {
   checkImageFitsLayout(image, layout);
@@ -41,6 +50,8 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
   const bool normalized = light == CalibrationLight::Normalized;
 
   ClassSamplePixels pixels;
+  std::vector<SamplePixel> background;  // only for the background model, when it is on
+  const bool background_model = params.generalize_sigmas > 0 && params.background_share > 0;
   for (const auto& image : images) {
     // Each image's samples under that image's own light: with several images taken at
     // different times, each is normalised by what its blocks showed.
@@ -48,15 +59,33 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         normalized ? reference.gainsFor(blockLightLevels(image.bgr, PixelLayout::Bgr,
                                                          expectedLightLevels(image.bgr, PixelLayout::Bgr)))
                    : BlockOffsets{};
+    // The V the table files a pixel under: as the run-time classification will read it.
+    auto filed = [&](int x, int y) {
+      const cv::Vec3b c = image.bgr.at<cv::Vec3b>(y, x);
+      const int v = std::max({c[0], c[1], c[2]});
+      const int gain = normalized ? adjustment.gains.at<std::uint16_t>(y / BlockOffsets::kBlockSize,
+                                                                       x / BlockOffsets::kBlockSize)
+                                  : ColorTable::kUnitGain;
+      return SamplePixel{c, static_cast<std::uint8_t>(ColorTable::adjustedV(v, 0, gain))};
+    };
+    // Marker samples and a margin around them (their rims mix the marker with what is next
+    // to it) are not background; everything else is, sampled or not.
+    cv::Mat1b near_markers;
+    if (background_model) near_markers = cv::Mat1b::zeros(image.bgr.size());
     for (const auto& [cls, positions] : samplePixelPositions(image.bgr.size(), image.samples)) {
       auto& all = pixels[cls];
       for (const cv::Point& p : positions) {
-        const cv::Vec3b c = image.bgr.at<cv::Vec3b>(p);
-        const int v = std::max({c[0], c[1], c[2]});
-        const int gain = normalized ? adjustment.gains.at<std::uint16_t>(p.y / BlockOffsets::kBlockSize,
-                                                                         p.x / BlockOffsets::kBlockSize)
-                                    : ColorTable::kUnitGain;
-        all.push_back({c, static_cast<std::uint8_t>(ColorTable::adjustedV(v, 0, gain))});
+        all.push_back(filed(p.x, p.y));
+        if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
+      }
+    }
+    if (!background_model) continue;
+    cv::dilate(
+        near_markers, near_markers,
+        cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kMarkerMargin + 1, 2 * kMarkerMargin + 1)));
+    for (int y = 0; y < image.bgr.rows; ++y) {
+      for (int x = 0; x < image.bgr.cols; ++x) {
+        if (!near_markers(y, x)) background.push_back(filed(x, y));
       }
     }
   }
@@ -64,9 +93,29 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
   for (auto it = pixels.begin(); it != pixels.end();)
     it = it->second.empty() ? pixels.erase(it) : std::next(it);
   if (pixels.empty()) throw std::invalid_argument("the sample polygons select no pixel");
-  return ColorTable::buildFromSamplePixels(pixels, params)
+  return ColorTable::buildFromSamplePixels(pixels, params, background)
       .withIlluminationReference(reference.reference())
       .withIlluminationLevels(normalized ? reference.referenceLevels() : cv::Mat());
+}
+
+std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const ColorTable& table) {
+  std::vector<ColorClass> lost;
+  for (const auto& entry : samples) {
+    if (table.statistics().classes[static_cast<int>(entry.first)].cells_assigned == 0)
+      lost.push_back(entry.first);
+  }
+  return lost;
+}
+
+ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,
+                                const ColorSamples& samples) {
+  std::vector<ColorClass> unsampled;
+  for (int c = 1; c < kNumColorClasses; ++c) {
+    const auto cls = static_cast<ColorClass>(c);
+    const auto it = samples.find(cls);
+    if (it == samples.end() || it->second.empty()) unsampled.push_back(cls);
+  }
+  return fresh.withClassesFrom(previous, unsampled);
 }
 
 }  // namespace soccer_vision

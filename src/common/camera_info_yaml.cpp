@@ -1,6 +1,7 @@
 #include "soccer_vision/common/camera_info_yaml.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
@@ -87,11 +88,46 @@ CameraIntrinsics parseCameraInfoYaml(const std::string& yaml_text, const std::st
     }
   }
   for (std::size_t i = 0; i < 5 && i < D.size(); ++i) k.dist[i] = D[i];
+  try {
+    checkIntrinsics(k);
+  } catch (const std::invalid_argument& e) {
+    fail(source, e.what());
+  }
   return k;
 }
 
 CameraIntrinsics loadCameraInfoYaml(const std::string& path) {
   return parseCameraInfoYaml(readTextFile(path), path);
+}
+
+std::string toCameraInfoYaml(const CameraIntrinsics& k, const std::string& camera_name) {
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return std::string(buf);
+  };
+  auto list = [&](std::initializer_list<double> v) {
+    std::string out;
+    for (double x : v) out += (out.empty() ? "" : ", ") + num(x);
+    return "[" + out + "]";
+  };
+  std::string y;
+  y += "image_width: " + std::to_string(k.width) + "\n";
+  y += "image_height: " + std::to_string(k.height) + "\n";
+  y += "camera_name: " + camera_name + "\n";
+  y +=
+      "camera_matrix:\n  rows: 3\n  cols: 3\n  data: " + list({k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1}) + "\n";
+  y += "distortion_model: plumb_bob\n";
+  y += "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: " +
+       list({k.dist[0], k.dist[1], k.dist[2], k.dist[3], k.dist[4]}) + "\n";
+  y += "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: " + list({1, 0, 0, 0, 1, 0, 0, 0, 1}) + "\n";
+  y += "projection_matrix:\n  rows: 3\n  cols: 4\n  data: " +
+       list({k.fx, 0, k.cx, 0, 0, k.fy, k.cy, 0, 0, 0, 1, 0}) + "\n";
+  return y;
+}
+
+void saveCameraInfoYaml(const std::string& path, const CameraIntrinsics& k, const std::string& camera_name) {
+  writeTextFile(path, toCameraInfoYaml(k, camera_name));
 }
 
 }  // namespace soccer_vision

@@ -1,6 +1,8 @@
 #include "soccer_vision/common/camera_model.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "soccer_vision/common/field_geometry.h"
 
@@ -114,6 +116,23 @@ std::optional<Eigen::Vector3d> CameraModel::pixelToField(const Eigen::Vector2d& 
 bool CameraModel::inImage(const Eigen::Vector2d& pixel, double margin) const {
   return pixel.x() >= -0.5 + margin && pixel.y() >= -0.5 + margin && pixel.x() <= k_.width - 0.5 - margin &&
          pixel.y() <= k_.height - 0.5 - margin;
+}
+
+void checkIntrinsics(const CameraIntrinsics& k) {
+  if (k.width < 1 || k.width > kMaxImageSide || k.height < 1 || k.height > kMaxImageSide) {
+    throw std::invalid_argument("image size " + std::to_string(k.width) + "x" + std::to_string(k.height) +
+                                " outside 1.." + std::to_string(kMaxImageSide));
+  }
+  if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || k.fx <= 0 || k.fy <= 0) {
+    throw std::invalid_argument("focal length (fx " + std::to_string(k.fx) + ", fy " + std::to_string(k.fy) +
+                                ") must be finite and positive");
+  }
+  if (!std::isfinite(k.cx) || !std::isfinite(k.cy))
+    throw std::invalid_argument("principal point is not finite");
+  for (std::size_t i = 0; i < k.dist.size(); ++i) {
+    if (!std::isfinite(k.dist[i]))
+      throw std::invalid_argument("distortion coefficient " + std::to_string(i) + " is not finite");
+  }
 }
 
 }  // namespace soccer_vision

@@ -91,8 +91,13 @@ CameraPoseFile parseCameraPoseFile(const std::string& yaml_text, const std::stri
   p.field_T_camera.translation() = translation;
   if (root["rms_error_px"]) p.rms_error_px = number(root, "rms_error_px", "", source);
   const YAML::Node k = mapAt(root, "intrinsics", source);
-  p.intrinsics.width = static_cast<int>(number(k, "width", "intrinsics.", source));
-  p.intrinsics.height = static_cast<int>(number(k, "height", "intrinsics.", source));
+  // Range-checked before the cast: 1e300 as an int is undefined (float-cast-overflow).
+  for (const char* key : {"width", "height"}) {
+    const double v = number(k, key, "intrinsics.", source);
+    if (v < 1 || v > kMaxImageSide)
+      fail(source, std::string("'intrinsics.") + key + "' must be in 1.." + std::to_string(kMaxImageSide));
+    (std::string(key) == "width" ? p.intrinsics.width : p.intrinsics.height) = static_cast<int>(v);
+  }
   p.intrinsics.fx = number(k, "fx", "intrinsics.", source);
   p.intrinsics.fy = number(k, "fy", "intrinsics.", source);
   p.intrinsics.cx = number(k, "cx", "intrinsics.", source);

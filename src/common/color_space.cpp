@@ -54,6 +54,33 @@ Hsv bgrToHsv(std::uint8_t b, std::uint8_t g, std::uint8_t r) {
   return hsv;
 }
 
+std::array<std::uint8_t, 3> hsvToBgr(const Hsv& hsv) {
+  double h = std::fmod(hsv.h, 360.0);
+  if (h < 0) h += 360.0;
+  const double v = std::clamp(hsv.v, 0.0, 255.0), s = std::clamp(hsv.s, 0.0, 1.0);
+  const double max = v, min = v * (1.0 - s), range = max - min;
+  // bgrToHsv's three sectors, each of 120 degrees around the channel that is the maximum.
+  double r, g, b;
+  if (h < 60.0 || h >= 300.0) {  // max == r: h = 60 (g - b) / range
+    const double d = (h >= 300.0 ? h - 360.0 : h) / 60.0 * range;
+    r = max;
+    g = d >= 0 ? min + d : min;
+    b = d >= 0 ? min : min - d;
+  } else if (h < 180.0) {  // max == g: h = 120 + 60 (b - r) / range
+    const double d = (h - 120.0) / 60.0 * range;
+    g = max;
+    b = d >= 0 ? min + d : min;
+    r = d >= 0 ? min : min - d;
+  } else {  // max == b: h = 240 + 60 (r - g) / range
+    const double d = (h - 240.0) / 60.0 * range;
+    b = max;
+    r = d >= 0 ? min + d : min;
+    g = d >= 0 ? min : min - d;
+  }
+  auto byte = [](double x) { return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 255.0))); };
+  return {byte(b), byte(g), byte(r)};
+}
+
 Lab bgrToLab(std::uint8_t b, std::uint8_t g, std::uint8_t r) {
   const auto& lin = srgbToLinear();
   const double rgb[3] = {lin[r], lin[g], lin[b]};

@@ -37,7 +37,10 @@ std::vector<double> numbers(const YAML::Node& n, std::size_t count, const std::s
     throw std::runtime_error(what + " must be a list of " + std::to_string(count) + " numbers");
   }
   std::vector<double> v;
-  for (const auto& e : n) v.push_back(e.as<double>());
+  for (const auto& e : n) {
+    v.push_back(e.as<double>());
+    if (!std::isfinite(v.back())) throw std::runtime_error(what + " must be finite numbers");
+  }
   return v;
 }
 
@@ -165,7 +168,50 @@ ColorSamples parseColorSamples(const std::string& yaml_text, const std::string& 
       samples[*cls].push_back(p);
     }
   }
+  try {
+    checkColorSamples(samples);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(source + ": " + e.what());
+  }
   return samples;
+}
+
+void checkColorSamples(const ColorSamples& samples) {
+  std::size_t polygons = 0, vertices = 0;
+  for (const auto& [cls, list] : samples) {
+    const std::string name(colorClassName(cls));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Polygon& poly = list[i];
+      const std::string where = "'" + name + "' polygon " + std::to_string(i);
+      if (++polygons > kMaxSamplePolygons) {
+        throw std::invalid_argument("more than " + std::to_string(kMaxSamplePolygons) + " sample polygons");
+      }
+      vertices += poly.size();
+      if (vertices > kMaxSampleVertices) {
+        throw std::invalid_argument("more than " + std::to_string(kMaxSampleVertices) +
+                                    " sample vertices in all");
+      }
+      if (poly.size() < 3 || poly.size() > kMaxPolygonVertices) {
+        throw std::invalid_argument(where + ": " + std::to_string(poly.size()) + " vertices, needs 3.." +
+                                    std::to_string(kMaxPolygonVertices));
+      }
+      double twice_area = 0;
+      for (std::size_t k = 0; k < poly.size(); ++k) {
+        const Eigen::Vector2d& p = poly[k];
+        if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || std::abs(p.x()) > kMaxSampleCoordinate ||
+            std::abs(p.y()) > kMaxSampleCoordinate) {
+          std::ostringstream os;
+          os << where << " vertex " << k << ": (" << p.x() << ", " << p.y()
+             << ") is not a finite pixel coordinate within +-" << kMaxSampleCoordinate;
+          throw std::invalid_argument(os.str());
+        }
+        const Eigen::Vector2d& q = poly[(k + 1) % poly.size()];
+        twice_area += p.x() * q.y() - q.x() * p.y();
+      }
+      // Below a millionth of a pixel: the vertices lie on one line, the polygon selects nothing.
+      if (std::abs(twice_area) < 2e-6) throw std::invalid_argument(where + " has no area (degenerate)");
+    }
+  }
 }
 
 ColorSamples loadColorSamples(const std::string& path) { return parseColorSamples(readTextFile(path), path); }
@@ -185,6 +231,10 @@ std::vector<FieldCorrespondence> parseFieldCorrespondences(const std::string& ya
   const YAML::Node root = loadYaml(yaml_text, source);
   if (!root.IsMap() || !root["points"] || !root["points"].IsSequence()) {
     throw std::runtime_error(source + ": expected 'points:' with a list of correspondences");
+  }
+  if (root["points"].size() > kMaxFieldCorrespondences) {
+    throw std::runtime_error(source + ": 'points' has " + std::to_string(root["points"].size()) +
+                             " correspondences, at most " + std::to_string(kMaxFieldCorrespondences));
   }
   std::vector<FieldCorrespondence> out;
   for (const auto& n : root["points"]) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -25,27 +26,54 @@ MarkerShape polarDisc(double angle_deg, double distance, double radius) {
   return disc(distance * std::cos(a), distance * std::sin(a), radius);
 }
 
+// Far above every real pattern (the SSL one has 4 slots and 16 ids).
+constexpr std::size_t kMaxPatternSlots = 16;
+constexpr std::size_t kMaxPatternIds = 256;
+
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
   throw std::runtime_error("pattern set " + source + ": " + what);
 }
 
-double number(const YAML::Node& n, const char* key, const std::string& source) {
+// `limit`: metres for lengths (nothing on a robot is a metre away), degrees for angles.
+double number(const YAML::Node& n, const char* key, const std::string& source, double limit = 1.0) {
   if (!n[key]) fail(source, std::string("missing '") + key + "'");
+  double v = 0;
   try {
-    return n[key].as<double>();
+    v = n[key].as<double>();
   } catch (const YAML::Exception&) {
     fail(source, std::string("'") + key + "' is not a number");
+  }
+  // NaN would pass every comparison below.
+  if (!std::isfinite(v) || std::abs(v) > limit) {
+    std::ostringstream os;
+    os << "'" << key << "' must be a finite number within +-" << limit;
+    fail(source, os.str());
+  }
+  return v;
+}
+
+// A typo ('slot:', 'id:') once made a team-only pattern silently: every key must be known.
+void checkKeys(const YAML::Node& n, const std::set<std::string>& known, const std::string& where,
+               const std::string& source) {
+  for (const auto& kv : n) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key)) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    fail(source, "unknown key '" + key + "' in " + where + " (known: " + list + ")");
   }
 }
 
 MarkerShape parseShape(const YAML::Node& n, const std::string& source) {
   if (!n.IsMap()) fail(source, "a marker shape must be a map");
   const std::string kind = n["shape"] ? n["shape"].as<std::string>() : "";
+  checkKeys(n, {"shape", "x", "y", "radius", "angle_deg", "distance", "size_x", "size_y"}, "a marker shape",
+            source);
   MarkerShape s;
   if (kind == "disc") {
     // Either cartesian (x, y) or polar (angle_deg from the heading, distance from the centre).
     if (n["angle_deg"]) {
-      s = polarDisc(number(n, "angle_deg", source), number(n, "distance", source),
+      s = polarDisc(number(n, "angle_deg", source, 360.0), number(n, "distance", source),
                     number(n, "radius", source));
     } else {
       s = disc(number(n, "x", source), number(n, "y", source), number(n, "radius", source));
@@ -129,16 +157,24 @@ PatternSet parsePatternSet(const std::string& yaml_text, const std::string& sour
     fail(source, std::string("invalid YAML: ") + e.what());
   }
   if (!root.IsMap()) fail(source, "top level must be a map");
+  checkKeys(root, {"name", "robot_radius", "robot_height", "team_marker", "slots", "ids"}, "the pattern set",
+            source);
   PatternSet p;
   p.name = root["name"] ? root["name"].as<std::string>() : source;
   if (root["robot_radius"]) p.robot_radius = number(root, "robot_radius", source);
   if (root["robot_height"]) p.robot_height = number(root, "robot_height", source);
+  if (p.robot_radius <= 0) fail(source, "'robot_radius' must be positive");
+  if (p.robot_height <= 0) fail(source, "'robot_height' must be positive");
   if (!root["team_marker"]) fail(source, "missing 'team_marker'");
   p.team_marker = parseShape(root["team_marker"], source);
   if (root["slots"]) {
+    if (!root["slots"].IsSequence() || root["slots"].size() > kMaxPatternSlots)
+      fail(source, "'slots' must be a list of at most " + std::to_string(kMaxPatternSlots) + " shapes");
     for (const auto& s : root["slots"]) p.slots.push_back(parseShape(s, source));
   }
   if (root["ids"]) {
+    if (!root["ids"].IsSequence() || root["ids"].size() > kMaxPatternIds)
+      fail(source, "'ids' must be a list of at most " + std::to_string(kMaxPatternIds) + " rows");
     for (const auto& row : root["ids"]) {
       if (!row.IsSequence() || row.size() != p.slots.size()) {
         fail(source, "id " + std::to_string(p.ids.size()) + " must list one colour per slot (" +
@@ -149,6 +185,11 @@ PatternSet parsePatternSet(const std::string& yaml_text, const std::string& sour
         const auto cls = parseColorClass(c.as<std::string>());
         if (!cls || !isMarkerColor(*cls)) {
           fail(source, "'" + c.as<std::string>() + "' is not a marker colour");
+        }
+        // The ball's colour and the team colours are found as such, never as an id.
+        if (*cls == ColorClass::Orange || *cls == ColorClass::Blue || *cls == ColorClass::Yellow) {
+          fail(source, "id " + std::to_string(p.ids.size()) + ": '" + c.as<std::string>() +
+                           "' is not an id colour (orange is the ball's, blue and yellow the teams')");
         }
         colors.push_back(*cls);
       }

@@ -12,13 +12,16 @@ BallDetector::BallDetector(const CameraModel& camera, const FieldGeometry& field
     : camera_(camera), field_(field), params_(params) {}
 
 std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regions,
-                                                const std::vector<bool>& region_used) const {
+                                                const std::vector<bool>& region_used,
+                                                RejectionCounts* rejections) const {
+  RejectionCounts rejected;
   // Orange fragments near each other are one ball: a ball faster than its own diameter per
   // exposure is a streak that segmentation may cut into pieces (its faint middle).
   struct Fragment {
     Eigen::Vector2d pixel;
     Eigen::Vector2d field;
     double area;
+    Eigen::Matrix2d second_moments;  // central, per unit area [px²]
   };
   std::vector<Fragment> fragments;
   for (std::size_t r = 0; r < regions.size(); ++r) {
@@ -27,7 +30,13 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     if (region.area == 0 || !std::isfinite(region.cx) || !std::isfinite(region.cy)) continue;
     const Eigen::Vector2d pixel(region.cx, region.cy);
     const auto p = camera_.pixelToField(pixel, params_.radius);
-    if (p && p->allFinite()) fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area)});
+    Eigen::Matrix2d m;
+    m << region.mu20, region.mu11, region.mu11, region.mu02;
+    if (p && p->allFinite() && m.allFinite()) {
+      fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area), m});
+    } else {
+      rejected.add(RejectionCause::Projection);
+    }
   }
   std::vector<int> cluster(fragments.size());
   for (std::size_t i = 0; i < fragments.size(); ++i) cluster[i] = static_cast<int>(i);
@@ -53,27 +62,66 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
       pixel += fragments[j].area * fragments[j].pixel;
     }
     pixel /= area;
+    // The cluster's second moments (parallel axes) and their principal std-devs.
+    Eigen::Matrix2d moments = Eigen::Matrix2d::Zero();
+    for (std::size_t j = 0; j < fragments.size(); ++j) {
+      if (root(static_cast<int>(j)) != static_cast<int>(i)) continue;
+      const Eigen::Vector2d d = fragments[j].pixel - pixel;
+      moments += fragments[j].area * (fragments[j].second_moments + d * d.transpose());
+    }
+    moments /= area;
+    const double half_trace = 0.5 * (moments(0, 0) + moments(1, 1));
+    const double spread =
+        std::sqrt(0.25 * std::pow(moments(0, 0) - moments(1, 1), 2) + moments(0, 1) * moments(0, 1));
+    const double minor_sd = std::sqrt(std::max(0.0, half_trace - spread));
+    const double major_sd = std::sqrt(std::max(0.0, half_trace + spread));
     const auto p = camera_.pixelToField(pixel, params_.radius);
-    if (!p || !field_.onCarpet(p->x(), p->y(), params_.field_margin)) continue;
+    if (!p) {
+      rejected.add(RejectionCause::Projection);
+      continue;
+    }
+    if (!field_.onCarpet(p->x(), p->y(), params_.field_margin)) {
+      rejected.add(RejectionCause::BallOffField);
+      continue;
+    }
     const double expected = expectedBallArea(camera_, *p, params_.radius);
-    if (expected <= 0) continue;
+    if (expected <= 0) {
+      rejected.add(RejectionCause::Projection);
+      continue;
+    }
     const double ratio = area / expected;
-    if (ratio < params_.area_ratio_min || ratio > params_.area_ratio_max) continue;
+    if (ratio < params_.area_ratio_min || ratio > params_.area_ratio_max) {
+      rejected.add(RejectionCause::BallArea);
+      continue;
+    }
+    const double width_ratio = 4 * minor_sd / (2 * std::sqrt(expected / M_PI));
+    if (width_ratio < params_.width_ratio_min || width_ratio > params_.width_ratio_max ||
+        major_sd > params_.max_elongation * minor_sd) {
+      rejected.add(RejectionCause::BallShape);
+      continue;
+    }
     const double l = std::log(ratio) / params_.area_sigma;
     BallDetection b;
     b.x = p->x();
     b.y = p->y();
     b.z = params_.radius;
-    b.confidence = std::exp(-0.5 * l * l);
+    b.confidence =
+        std::exp(-0.5 * l * l) * (field_.inPlayingArea(p->x(), p->y()) ? 1.0 : params_.outside_play_weight);
     b.pixel = pixel;
     b.area_px = area;
-    if (b.confidence >= params_.min_confidence) out.push_back(b);
+    if (b.confidence >= params_.min_confidence) {
+      out.push_back(b);
+    } else {
+      rejected.add(RejectionCause::BallConfidence);
+    }
   }
   std::sort(out.begin(), out.end(),
             [](const BallDetection& a, const BallDetection& b) { return a.confidence > b.confidence; });
   if (params_.max_candidates > 0 && static_cast<int>(out.size()) > params_.max_candidates) {
+    rejected.add(RejectionCause::BallSurplus, static_cast<long>(out.size()) - params_.max_candidates);
     out.resize(params_.max_candidates);
   }
+  if (rejections) *rejections += rejected;
   return out;
 }
 

@@ -20,7 +20,8 @@ CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regio
   out.global_search = global_search;
   RobotIdentificationResult robots = robots_.identify(regions, mosaic);
   out.robots = std::move(robots.robots);
-  out.balls = balls_.detect(regions, robots.region_used);
+  out.rejections = robots.rejections;
+  out.balls = balls_.detect(regions, robots.region_used, &out.rejections);
   return out;
 }
 

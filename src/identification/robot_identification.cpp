@@ -108,7 +108,10 @@ class Matcher {
       PlaneRegion plane;
       if (team) {
         const auto full = projectToPlane(regions[r], camera, pattern.robot_height);
-        if (!full) continue;
+        if (!full) {
+          ++unprojectable_teams_;
+          continue;
+        }
         plane = *full;
       } else {
         const auto centre = projectCentroidToPlane(regions[r], camera, pattern.robot_height);
@@ -125,19 +128,26 @@ class Matcher {
 
   const std::vector<Observed>& observed() const { return observed_; }
   const std::vector<int>& teams() const { return teams_; }
+  int unprojectableTeams() const { return unprojectable_teams_; }
 
   // Valid hypotheses of team region `t` from regions not in `used`, ids not in `taken`;
-  // best first.
+  // best first. `furthest` is raised to the furthest check an invalid one failed (the
+  // causes are ordered as the checks run).
   std::vector<Hypothesis> hypotheses(int t, const std::vector<char>& used,
-                                     const std::set<std::pair<Team, int>>& taken) const {
+                                     const std::set<std::pair<Team, int>>& taken,
+                                     RejectionCause& furthest) const {
     std::vector<Hypothesis> out;
     const Observed& team = observed_[t];
     const Team team_id = team.color == ColorClass::Blue ? Team::Blue : Team::Yellow;
     AssignmentSet seen;  // slot assignments already evaluated
     auto consider = [&](Hypothesis h, bool fitted) {
       if (!seen.insert(h.slot_obs)) return;
-      if (!evaluate(h, fitted)) return;
-      if (h.id >= 0 && taken.count({team_id, h.id})) return;
+      std::optional<RejectionCause> why = evaluate(h, fitted);
+      if (!why && h.id >= 0 && taken.count({team_id, h.id})) why = RejectionCause::Conflict;
+      if (why) {
+        furthest = std::max(furthest, *why);
+        return;
+      }
       out.push_back(std::move(h));
     };
     // Id markers within reach of this team marker: the only ones any slot can take.
@@ -173,7 +183,10 @@ class Matcher {
           if (h.slot_obs[s] < 0) continue;  // the seed itself did not survive the assignment
           if (!seeded.insert(h.slot_obs)) continue;
           // Refit and reassign once: the seed pose rests on two centroids only.
-          if (!fit(h)) continue;
+          if (!fit(h)) {
+            furthest = std::max(furthest, RejectionCause::Axis);
+            continue;
+          }
           assignSlots(h.pose, near, slot_scratch_);
           // The pose was fitted to exactly these slots when the reassignment keeps them.
           const bool fitted = slot_scratch_ == h.slot_obs;
@@ -261,15 +274,16 @@ class Matcher {
     return true;
   }
 
-  // Fit (unless `fitted`: h.pose already is the fit to h.slot_obs), gate and score; false
-  // when the hypothesis is implausible. Cheap gates first (completeness, positions, axis),
-  // the projected areas last.
-  bool evaluate(Hypothesis& h, bool fitted) const {
+  // Fit (unless `fitted`: h.pose already is the fit to h.slot_obs), gate and score; the
+  // cause when the hypothesis is implausible. Cheap gates first (completeness, axis,
+  // positions), the projected areas last.
+  std::optional<RejectionCause> evaluate(Hypothesis& h, bool fitted) const {
     int matched = 0;
     for (int o : h.slot_obs) matched += o >= 0;
     const int missing = static_cast<int>(pattern_.slots.size()) - matched;
-    if (missing > params_.max_missing_markers && !params_.report_unidentified) return false;
-    if (!fitted && !fit(h)) return false;
+    if (missing > params_.max_missing_markers && !params_.report_unidentified)
+      return RejectionCause::Incomplete;
+    if (!fitted && !fit(h)) return RejectionCause::Axis;
     const Observed& team = observed_[h.team];
     const double c = std::cos(h.pose.theta), sn = std::sin(h.pose.theta);
     auto place = [&](const MarkerShape& shape) {  // h.pose.apply(shape centre)
@@ -286,16 +300,17 @@ class Matcher {
     auto area = [&](const MarkerShape& shape, const Observed& o) {
       const double expected =
           expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta, pattern_.robot_height);
-      if (expected <= 0) return false;
+      if (expected <= 0) return false;  // outline not projectable: no plausible area either
       const double ratio = o.area_px / expected;
       const double l = std::log(ratio) / params_.area_sigma;
       cost += l * l;
       ++terms;
       return ratio <= params_.area_ratio_gate && ratio >= 1.0 / params_.area_ratio_gate;
     };
-    if (h.heading_valid && !position(pattern_.team_marker, team)) return false;
+    if (h.heading_valid && !position(pattern_.team_marker, team)) return RejectionCause::Gate;
     for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
-      if (h.slot_obs[s] >= 0 && !position(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
+      if (h.slot_obs[s] >= 0 && !position(pattern_.slots[s], observed_[h.slot_obs[s]]))
+        return RejectionCause::Gate;
     }
     if (teamAxisUsable(team) && h.heading_valid) {
       const double d = std::remainder(team.plane.minor_axis_angle - *team_axis_ - h.pose.theta, M_PI);
@@ -313,20 +328,22 @@ class Matcher {
       if (ok && n_compatible++ == 0) first_compatible = static_cast<int>(id);
     }
     const bool has_ids = !pattern_.ids.empty();
-    if (has_ids && n_compatible == 0) return false;
+    if (has_ids && n_compatible == 0) return RejectionCause::Id;
     const bool id_known = has_ids && n_compatible == 1 && missing <= params_.max_missing_markers;
     h.id = id_known ? first_compatible : -1;
-    if (has_ids && !id_known && !params_.report_unidentified) return false;
+    if (has_ids && !id_known && !params_.report_unidentified) return RejectionCause::Id;
 
-    if (!area(pattern_.team_marker, team)) return false;
+    if (!area(pattern_.team_marker, team)) return RejectionCause::Area;
     for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
-      if (h.slot_obs[s] >= 0 && !area(pattern_.slots[s], observed_[h.slot_obs[s]])) return false;
+      if (h.slot_obs[s] >= 0 && !area(pattern_.slots[s], observed_[h.slot_obs[s]]))
+        return RejectionCause::Area;
     }
 
     h.confidence =
         std::exp(-0.5 * cost / std::max(terms, 1)) * std::pow(params_.missing_marker_factor, missing);
     if (has_ids && !id_known) h.confidence = std::min(h.confidence, 0.2);
-    return h.confidence >= params_.min_confidence;
+    if (h.confidence < params_.min_confidence) return RejectionCause::Confidence;
+    return std::nullopt;
   }
 
   struct SlotPair {
@@ -350,6 +367,7 @@ class Matcher {
   std::optional<double> team_axis_;  // minor axis of the team tag in the robot frame
   std::vector<Observed> observed_;
   std::vector<int> teams_, id_markers_;
+  int unprojectable_teams_ = 0;  // team regions off the marker plane (not in observed_)
   // Scratch (one Matcher per identify() call, used by one thread).
   mutable std::vector<SlotPair> pairs_;
   mutable std::vector<int> slot_scratch_;
@@ -372,10 +390,17 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
 
   // Greedy global assignment over each team region's current best hypothesis, best first.
   std::vector<std::vector<Hypothesis>> options(obs.size());
+  // Per team observation: the furthest check its hypotheses failed; whether one was valid.
+  std::vector<RejectionCause> furthest(obs.size(), RejectionCause::Unpaired);
+  std::vector<char> had_valid(obs.size(), 0);
+  auto form = [&](int t) {
+    options[t] = m.hypotheses(t, used, taken, furthest[t]);
+    had_valid[t] |= !options[t].empty();
+  };
   using Entry = std::pair<double, int>;  // confidence, team observation
   std::priority_queue<Entry> queue;
   for (int t : m.teams()) {
-    options[t] = m.hypotheses(t, used, taken);
+    form(t);
     if (!options[t].empty()) queue.push({options[t].front().confidence, t});
   }
   std::vector<Hypothesis> accepted;
@@ -391,7 +416,7 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
         (h.id >= 0 && taken.count({obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow, h.id}));
     if (conflict) {
       // Regions taken since this was formed: form the hypotheses again without them.
-      options[t] = m.hypotheses(t, used, taken);
+      form(t);
       if (!options[t].empty()) queue.push({options[t].front().confidence, t});
       continue;
     }
@@ -406,6 +431,10 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
   out.region_used.assign(regions.size(), false);
   for (std::size_t o = 0; o < obs.size(); ++o) {
     if (used[o]) out.region_used[obs[o].region] = true;
+  }
+  out.rejections.add(RejectionCause::Projection, m.unprojectableTeams());
+  for (int t : m.teams()) {
+    if (!used[t]) out.rejections.add(had_valid[t] ? RejectionCause::Conflict : furthest[t]);
   }
   for (const Hypothesis& h : accepted) {
     RobotDetection d;

@@ -98,6 +98,8 @@ class IdentificationNodelet : public nodelet::Nodelet {
   std::uint64_t frames_ = 0, window_frames_ = 0, window_robots_ = 0, window_balls_ = 0;
   double window_ms_sum_ = 0, window_ms_max_ = 0;
   std::uint64_t dropped_no_camera_ = 0, dropped_other_camera_ = 0, dropped_error_ = 0;
+  std::uint64_t camera_info_refused_ = 0;
+  RejectionCounts rejections_;  // candidates identification did not report, since start, by cause
 };
 
 void IdentificationNodelet::onInit() {
@@ -151,6 +153,16 @@ void IdentificationNodelet::reconfigure(IdentificationConfig& config, uint32_t /
 }
 
 void IdentificationNodelet::cameraInfoCallback(const sensor_msgs::CameraInfoConstPtr& info) {
+  // Bad input keeps the last good camera_info (NaN or Inf once gave 0 robots silently).
+  try {
+    intrinsicsFromCameraInfo(*info);
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "camera_info refused (%s); keeping the previous one", e.what());
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++camera_info_refused_;
+    if (!info_) problem_ = std::string("camera_info refused: ") + e.what();
+    return;
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   const bool changed = !info_ || info_->K != info->K || info_->D != info->D || info_->width != info->width ||
                        info_->height != info->height || info_->header.frame_id != info->header.frame_id;
@@ -166,7 +178,7 @@ std::shared_ptr<const FrameIdentifier> IdentificationNodelet::identifierFor(cons
     return nullptr;
   }
   if (!info_) {
-    problem_ = "no camera_info received yet";
+    if (camera_info_refused_ == 0) problem_ = "no camera_info received yet";
     return nullptr;
   }
   try {
@@ -229,10 +241,12 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
     return;
   }
   auto out = boost::make_shared<CameraDetections>();
+  RejectionCounts rejections;
   try {
     const CameraFrameDetections d = identifier->identify(fromBlobArray(*blobs), blobs->header.stamp.toSec(),
                                                          camera_id_, blobs->global_search, blobs->mosaic);
     toCameraDetections(d, blobs->header, *out);
+    rejections = d.rejections;
   } catch (const std::exception& e) {
     NODELET_ERROR_THROTTLE(5.0, "identification failed: %s; frame dropped", e.what());
     drop(dropped_error_);
@@ -245,6 +259,7 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   ++window_frames_;
   window_robots_ += out->robots.size();
   window_balls_ += out->balls.size();
+  rejections_ += rejections;
   window_ms_sum_ += ms;
   window_ms_max_ = std::max(window_ms_max_, ms);
 }
@@ -269,6 +284,12 @@ void IdentificationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrap
   stat.add("dropped: no camera model", dropped_no_camera_);
   stat.add("dropped: other camera", dropped_other_camera_);
   stat.add("dropped: errors", dropped_error_);
+  stat.add("camera_info refused (NaN/Inf, focal <= 0, size)", camera_info_refused_);
+  // Candidates (team-colour regions, orange clusters) not reported, since start, by cause.
+  for (int i = 0; i < kNumRejectionCauses; ++i) {
+    const auto cause = static_cast<RejectionCause>(i);
+    stat.add(std::string("rejected: ") + rejectionCauseName(cause), rejections_[cause]);
+  }
   stat.add("pattern", pattern_name_);
   stat.add("camera pose", !pose_file_path_.empty()
                               ? "file " + pose_file_path_ + (pose_file_ ? "" : " (not loaded yet)")

@@ -10,6 +10,8 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -27,6 +29,7 @@
 #include <nodelet/nodelet.h>
 #include <opencv2/imgproc.hpp>
 #include <pluginlib/class_list_macros.hpp>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
@@ -39,6 +42,7 @@
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/common/path_inside_directory.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/image_message.h"
 #include "soccer_vision/segmentation/color_table.h"
@@ -91,6 +95,8 @@ class SegmentationNodelet : public nodelet::Nodelet {
   void windowsCallback(const SearchWindowsConstPtr& windows);
   void reconfigure(SegmentationConfig& config, uint32_t level);
   bool calibrate(Calibrate::Request& req, Calibrate::Response& res);
+  void calibrateLoop();
+  std::string saveDirectory(const std::string& color_table_path) const;
   void loaderLoop();
   void requestLoad(const std::string& path);
   std::vector<cv::Rect> searchWindows(const ros::Time& image_stamp);
@@ -117,6 +123,7 @@ class SegmentationNodelet : public nodelet::Nodelet {
   int camera_id_ = 0;
   double window_max_age_ = 0.5;
   bool report_data_pointer_ = false;
+  std::string calibration_save_directory_;  // "" = the color_table's directory
 
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
@@ -124,6 +131,11 @@ class SegmentationNodelet : public nodelet::Nodelet {
   ros::Subscriber windows_sub_;
   ros::Publisher blobs_pub_, address_pub_;
   ros::ServiceServer calibrate_srv_;
+  // ~calibrate runs on its own queue and thread: its cost (pixels, polygons) never delays a
+  // frame of the nodelet's queue.
+  ros::CallbackQueue calibrate_queue_;
+  std::thread calibrate_thread_;
+  std::atomic<bool> calibrate_stop_{false};
 
   using ReconfigureServer = dynamic_reconfigure::Server<SegmentationConfig>;
   std::unique_ptr<ReconfigureServer> reconfigure_server_;
@@ -175,11 +187,15 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0, dropped_error_ = 0;
   std::uint64_t window_dropped_ = 0;
   std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0, skipped_by_frame_step_ = 0;
+  std::uint64_t calibrations_refused_ = 0;
   std::string last_bad_encoding_;
 };
 
 SegmentationNodelet::~SegmentationNodelet() {
   diag_timer_.stop();
+  calibrate_srv_.shutdown();
+  calibrate_stop_ = true;
+  if (calibrate_thread_.joinable()) calibrate_thread_.join();
   {
     std::lock_guard<std::mutex> lock(load_mutex_);
     stopping_ = true;
@@ -199,6 +215,7 @@ void SegmentationNodelet::onInit() {
   }
   pnh.param("search_window_max_age", window_max_age_, 0.5);
   pnh.param("debug_report_data_pointer", report_data_pointer_, false);
+  pnh.param("calibration_save_directory", calibration_save_directory_, std::string());
   int queue_size = 2;
   pnh.param("queue_size", queue_size, 2);
   queue_size = std::max(1, queue_size);
@@ -228,7 +245,10 @@ void SegmentationNodelet::onInit() {
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
   debug_pub_ = it_->advertise("debug/classification", 1);
   windows_sub_ = nh.subscribe("search_windows", 2, &SegmentationNodelet::windowsCallback, this);
-  calibrate_srv_ = pnh.advertiseService("calibrate", &SegmentationNodelet::calibrate, this);
+  ros::NodeHandle calibrate_nh(pnh);
+  calibrate_nh.setCallbackQueue(&calibrate_queue_);
+  calibrate_srv_ = calibrate_nh.advertiseService("calibrate", &SegmentationNodelet::calibrate, this);
+  calibrate_thread_ = std::thread(&SegmentationNodelet::calibrateLoop, this);
   image_sub_ =
       it_->subscribe("image_raw", static_cast<uint32_t>(queue_size), &SegmentationNodelet::imageCallback,
                      this, image_transport::TransportHints("raw", ros::TransportHints(), pnh));
@@ -435,9 +455,10 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     if (result_.illumination_size_mismatch) ++illumination_mismatch_;
   }
   if (result_.illumination_size_mismatch)
-    NODELET_WARN_THROTTLE(30.0,
-                          "the colour table's illumination reference is for another "
-                          "image size: illumination adaptation is off");
+    NODELET_ERROR_THROTTLE(5.0,
+                           "the colour table's illumination reference is for another image size than "
+                           "%ux%u: illumination adaptation is off; calibrate the table at this size",
+                           image->width, image->height);
 
   if (debug_pub_.getNumSubscribers() > 0) publishDebug(image, cv->image, *layout, *m);
 }
@@ -453,10 +474,32 @@ void SegmentationNodelet::publishDebug(const sensor_msgs::ImageConstPtr& image, 
   }
 }
 
+void SegmentationNodelet::calibrateLoop() {
+  while (!calibrate_stop_ && ros::ok()) calibrate_queue_.callAvailable(ros::WallDuration(0.1));
+}
+
+// Where ~calibrate may save: calibration_save_directory, else the directory of the
+// color_table file, else $ROS_HOME/soccer_vision (~/.ros/soccer_vision).
+std::string SegmentationNodelet::saveDirectory(const std::string& color_table_path) const {
+  if (!calibration_save_directory_.empty()) return calibration_save_directory_;
+  if (!color_table_path.empty()) {
+    const std::filesystem::path dir = std::filesystem::absolute(color_table_path).parent_path();
+    return dir.string();
+  }
+  const char* ros_home = std::getenv("ROS_HOME");
+  const char* home = std::getenv("HOME");
+  const std::filesystem::path base = ros_home && *ros_home ? std::filesystem::path(ros_home)
+                                     : home && *home       ? std::filesystem::path(home) / ".ros"
+                                                           : std::filesystem::path("/tmp");
+  return (base / "soccer_vision").string();
+}
+
 bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response& res) {
   res.success = false;
   sensor_msgs::ImageConstPtr image;
-  {
+  if (!req.image.data.empty()) {
+    image = boost::make_shared<sensor_msgs::Image>(req.image);  // the frame the samples were drawn on
+  } else {
     std::lock_guard<std::mutex> lock(input_mutex_);
     image = last_image_;
   }
@@ -471,7 +514,9 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
   try {
     if (!image) throw std::runtime_error("no frame received yet on " + image_sub_.getTopic());
     const std::optional<PixelLayout> layout = pixelLayoutForEncoding(image->encoding);
-    if (!layout) throw std::runtime_error("latest frame has unsupported encoding " + image->encoding);
+    if (!layout) throw std::runtime_error("the frame has unsupported encoding " + image->encoding);
+    if (!imageMessageIsConsistent(*image, *layout))
+      throw std::runtime_error("the request's image is empty, truncated or inconsistent");
     const cv::Mat mat = cv_bridge::toCvShare(image)->image;
     cv::Mat bgr;  // calibration works on BGR: shared for bgr8, converted (copied) otherwise
     if (*layout == PixelLayout::Bgr) {
@@ -483,28 +528,49 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     }
     const ColorSamples samples = parseColorSamples(req.samples_yaml, "samples_yaml");
     if (samples.empty()) throw std::runtime_error("samples_yaml has no class with polygons");
+    // Checked before any work: a save path outside the allowed directory is refused at once.
+    std::string save_path;
+    if (req.save) {
+      const std::string path = req.path.empty() ? default_path : req.path;
+      if (path.empty()) throw std::runtime_error("save requested without path or color_table");
+      const std::string directory = saveDirectory(default_path);
+      save_path = pathInsideDirectory(directory, path);
+      if (calibration_save_directory_.empty() && default_path.empty())
+        std::filesystem::create_directories(directory);
+    }
     const ClassPixels pixels = collectSamplePixels(bgr, samples);
     for (const auto& entry : samples) {
       const auto it = pixels.find(entry.first);
       if (it == pixels.end() || it->second.empty())
         throw std::runtime_error("the polygons of class '" + std::string(colorClassName(entry.first)) +
-                                 "' select no pixel of the latest frame (" + std::to_string(image->width) +
-                                 "x" + std::to_string(image->height) + ")");
+                                 "' select no pixel of the frame (" + std::to_string(image->width) + "x" +
+                                 std::to_string(image->height) + ")");
     }
     ColorTableParams params;
     params.threshold_lab = threshold_lab;
     params.threshold_h = threshold_h;
     params.validate();
     // Table + illumination reference of this frame, then the lookup: outside every lock.
-    auto table =
-        std::make_shared<const ColorTable>(calibrateColorTable({CalibrationImage{bgr, samples}}, params));
+    ColorTable fresh = calibrateColorTable({CalibrationImage{bgr, samples}}, params);
+    const std::shared_ptr<const SegmentationModel> current = model();
+    const bool merged = !req.replace && current;
+    if (merged) fresh = keepUnsampledClasses(fresh, current->classifier->table(), samples);
+    auto table = std::make_shared<const ColorTable>(std::move(fresh));
+    // Swapped in only when every sampled class kept cells: a table that lost one would
+    // silently stop seeing that colour.
+    const std::vector<ColorClass> lost = classesWithoutCells(samples, *table);
+    if (!lost.empty()) {
+      std::string names;
+      for (const ColorClass c : lost) names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
+      throw std::runtime_error("the new table has no cell for " + names + " (" + summarizeTable(*table) +
+                               ")");
+    }
     std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
-    std::string source = "~calibrate on frame " + std::to_string(image->header.stamp.toSec());
+    std::string source = "~calibrate on frame " + std::to_string(image->header.stamp.toSec()) +
+                         (merged ? " (unsampled classes kept)" : "");
     if (req.save) {
-      const std::string path = req.path.empty() ? default_path : req.path;
-      if (path.empty()) throw std::runtime_error("save requested without path or color_table");
-      table->save(path);  // throws: the previous table stays
-      source += ", saved to " + path;
+      table->save(save_path);  // throws: the previous table stays
+      source += ", saved to " + save_path;
     }
     setModel(std::move(m), source);
     last_load_failed_ = false;  // a failed color_table file is not retried over this table
@@ -513,9 +579,10 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     NODELET_INFO("%s: %s", source.c_str(), res.message.c_str());
   } catch (const std::exception& e) {
     res.message = std::string("calibration failed, previous table kept: ") + e.what();
-    NODELET_ERROR("~calibrate: %s", res.message.c_str());
+    NODELET_ERROR_THROTTLE(1.0, "~calibrate: %s", res.message.c_str());
     std::lock_guard<std::mutex> lock(state_mutex_);
     table_error_ = e.what();
+    ++calibrations_refused_;
   }
   return true;  // the outcome is in the response
 }
@@ -561,6 +628,7 @@ void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrappe
   stat.add("dropped: no colour table", dropped_no_table_);
   stat.add("dropped: segmentation error", dropped_error_);
   stat.add("illumination reference size mismatches", illumination_mismatch_);
+  stat.add("~calibrate requests refused", calibrations_refused_);
   window_start_ = now;
   window_frames_ = 0;
   window_ms_sum_ = window_ms_max_ = 0;

@@ -39,6 +39,7 @@
 #include "soccer_vision/ros/transforms.h"
 #include "soccer_vision/tracking/result_recording.h"
 #include "soccer_vision/tracking/search_planner.h"
+#include "soccer_vision/tracking/stamp_jump_gate.h"
 #include "soccer_vision/tracking/tracker.h"
 
 namespace soccer_vision {
@@ -92,7 +93,9 @@ class TrackingNodelet : public nodelet::Nodelet {
   ros::WallTime window_start_;
   std::vector<double> latencies_ms_;
   std::uint64_t frames_ = 0, window_frames_ = 0, global_frames_ = 0, windowed_frames_ = 0;
-  std::uint64_t no_camera_model_ = 0, results_errors_ = 0;
+  std::uint64_t no_camera_model_ = 0, results_errors_ = 0, camera_info_refused_ = 0;
+  std::uint64_t withheld_robots_ = 0, withheld_balls_ = 0;  // outputs of too uncertain coasting tracks
+  StampJumpGate tf_gate_;                                   // tf only for stamps on a confirmed time line
 };
 
 void TrackingNodelet::onInit() {
@@ -124,6 +127,16 @@ void TrackingNodelet::onInit() {
   diag_timer_ =
       nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
+  // The field: its markers, and the playing area that tells the ball from a still orange
+  // object by the lines. Read before the reconfigure callback applies the tracker's parameters.
+  std::string field_name;
+  pnh.param("field", field_name, std::string("div_b"));
+  try {
+    tracker_params_.field = fieldGeometryByName(field_name);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("%s; no field markers, and every ball track is taken as in play", e.what());
+  }
+
   reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback([this](TrackingConfig& c, uint32_t level) { reconfigure(c, level); });
 
@@ -133,13 +146,9 @@ void TrackingNodelet::onInit() {
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
   field_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("field_markers", 1, true);
   window_markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("window_markers", 5);
-  std::string field_name;
-  pnh.param("field", field_name, std::string("div_b"));
-  try {
+  if (tracker_params_.field) {
     field_markers_pub_.publish(boost::make_shared<visualization_msgs::MarkerArray>(
-        fieldMarkers(fieldGeometryByName(field_name), field_frame_)));
-  } catch (const std::exception& e) {
-    NODELET_ERROR("%s; no field markers", e.what());
+        fieldMarkers(*tracker_params_.field, field_frame_)));
   }
 
   std::vector<double> offsets;
@@ -179,6 +188,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   tracker_params_.min_confidence = config.min_confidence;
   tracker_params_.time.max_forward_jump = config.max_forward_jump;
   tracker_params_.measurement_offset = config.measurement_offset;
+  tracker_params_.max_coast_uncertainty = config.max_coast_uncertainty;
   try {
     tracker_.setParams(tracker_params_);
   } catch (const std::exception& e) {
@@ -201,6 +211,15 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
 }
 
 void TrackingNodelet::cameraInfoCallback(Camera& camera, const sensor_msgs::CameraInfoConstPtr& info) {
+  try {
+    intrinsicsFromCameraInfo(*info);
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "%s: camera_info refused (%s); keeping the previous one", camera.ns.c_str(),
+                           e.what());
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++camera_info_refused_;
+    return;
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   if (!camera.info || camera.info->K != info->K || camera.info->D != info->D ||
       camera.info->header.frame_id != info->header.frame_id || camera.info->width != info->width) {
@@ -253,13 +272,16 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     }
     const TrackerUpdateReport report = tracker_.update(frame);
     if (report.reset()) {
-      NODELET_WARN("tracker reset: %s of the stamps (camera %d, %.3f s)", timeEventName(report.time.event),
-                   frame.camera_id, frame.stamp);
+      NODELET_WARN_THROTTLE(5.0, "tracker reset: %s of the stamps (camera %d, %.3f s; %lu resets so far)",
+                            timeEventName(report.time.event), frame.camera_id, frame.stamp,
+                            static_cast<unsigned long>(tracker_.stats().resets));
       for (auto& c : cameras_) c->planner.restart();
     }
     camera.planner.observe(report, frame.stamp);
     if (!report.processed()) return;  // late or invalid frame: nothing new to publish
     out = tracker_.output(frame.stamp);
+    withheld_robots_ += out.withheld_robots;
+    withheld_balls_ += out.withheld_balls;
     *robots = toRobotPoseArray(out, header);
     *balls = toBallPoseArray(out, header);
     appendGameMarkers(*robots, *balls, marker_style_, *markers);
@@ -280,7 +302,12 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
   balls_pub_.publish(balls);
   if (out.primaryBall()) ball_pub_.publish(boost::make_shared<BallPose>(balls->balls.front()));
   markers_pub_.publish(markers);
-  if (publish_tf_) publishTf(out, header.stamp);
+  bool tf_ok = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    tf_ok = publish_tf_ && tf_gate_.accept(header.stamp.toSec());
+  }
+  if (tf_ok) publishTf(out, header.stamp);
   const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
   std::lock_guard<std::mutex> lock(mutex_);
   latencies_ms_.push_back(latency_ms);
@@ -361,9 +388,14 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("heading manoeuvres (sudden turns)", s.heading_maneuvers);
   stat.add("measurement offset [s]", tracker_params_.measurement_offset);
   stat.add("ball kicks", s.ball_kicks);
+  stat.add("ball tracks replaced (parked outside the lines)", s.balls_replaced);
+  stat.add("robots withheld (coasting, too uncertain)", withheld_robots_);
+  stat.add("balls withheld (coasting, too uncertain)", withheld_balls_);
   stat.add("frames searched whole", global_frames_);
   stat.add("frames searched in windows", windowed_frames_);
   stat.add("windows without camera model", no_camera_model_);
+  stat.add("camera_info refused (NaN/Inf, focal <= 0, size)", camera_info_refused_);
+  stat.add("tf held back (unconfirmed stamp jumps)", tf_gate_.held());
   if (results_) stat.add("results lines", results_->written());
   window_start_ = ros::WallTime::now();
   window_frames_ = 0;

@@ -28,12 +28,21 @@ void validate(const VisionPipelineParams& p) {
   validate(p.tracker);
 }
 
+namespace {
+// The tracker tells the ball from still orange objects by the lines with the field's
+// playing area: the pipeline's field, unless the parameters name one.
+TrackerParams withField(TrackerParams p, const FieldGeometry& field) {
+  if (!p.field) p.field = field;
+  return p;
+}
+}  // namespace
+
 VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const PatternSet& patterns,
                                const FieldGeometry& field, const VisionPipelineParams& params)
     : cameras_(std::move(cameras)),
       params_(params),
       segmenter_(params.segmentation),
-      tracker_(params.tracker) {
+      tracker_(withField(params.tracker, field)) {
   validate(params_);
   if (cameras_.empty()) throw std::invalid_argument("VisionPipeline: no cameras");
   std::set<int> ids;
@@ -42,6 +51,22 @@ VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const Patter
       throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " twice");
     if (!c.segmentation)
       throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) + " has no colour table");
+    // A table calibrated at another resolution once switched illumination adaptation off
+    // silently (50-83 % detection): refused, naming both sizes.
+    const cv::Mat& reference = c.segmentation->illumination.reference();
+    const int w = c.model.intrinsics().width, h = c.model.intrinsics().height;
+    const cv::Size grid((w + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize,
+                        (h + BlockOffsets::kBlockSize - 1) / BlockOffsets::kBlockSize);
+    if (!reference.empty() && reference.size() != grid) {
+      throw std::invalid_argument("VisionPipeline: camera " + std::to_string(c.id) +
+                                  ": the colour table was calibrated on frames of " +
+                                  "another size (its illumination reference has " +
+                                  std::to_string(reference.cols) + "x" + std::to_string(reference.rows) +
+                                  " blocks of " + std::to_string(BlockOffsets::kBlockSize) + " px, " +
+                                  std::to_string(w) + "x" + std::to_string(h) + " frames have " +
+                                  std::to_string(grid.width) + "x" + std::to_string(grid.height) +
+                                  "): calibrate the table at " + std::to_string(w) + "x" + std::to_string(h));
+    }
     state_.emplace_back(FrameIdentifier(c.model, patterns, field, params_.identification), params_);
   }
 }
@@ -83,7 +108,7 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
                                                isBayer(camera.layout));
   const auto t1 = Clock::now();
 
-  frame.prediction = tracker_.output(stamp);
+  frame.prediction = tracker_.predictions(stamp);
   const TrackerUpdateReport report = tracker_.update(frame.detections);
   frame.tracker_reset = report.reset();
   if (report.reset()) {
@@ -100,6 +125,7 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   // Segmentation's morphology and regions, plus identification (its remaining time).
   frame.times.recognition = std::max(0.0, ms(t0, t1) - s.illumination_ms - s.classification_ms);
   frame.times.tracking = ms(t1, t2);
+  frame.regions = segmented_.regions;  // outside the timed stages: for failure analysis only
   return frame;
 }
 

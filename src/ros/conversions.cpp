@@ -21,7 +21,7 @@ sensor_msgs::CameraInfo toCameraInfo(const CameraModel& camera, const std::strin
 }
 
 CameraIntrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
-  if (info.K[0] <= 0 || info.K[4] <= 0) throw std::runtime_error("camera_info has no intrinsics (K)");
+  if (info.K[0] == 0 && info.K[4] == 0) throw std::runtime_error("camera_info has no intrinsics (K)");
   const bool plumb = info.distortion_model == sensor_msgs::distortion_models::PLUMB_BOB;
   const bool rational = info.distortion_model == sensor_msgs::distortion_models::RATIONAL_POLYNOMIAL;
   if (!info.D.empty() && !plumb && !rational) {
@@ -38,6 +38,14 @@ CameraIntrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
   k.cx = info.K[2];
   k.cy = info.K[5];
   for (std::size_t i = 0; i < 5 && i < info.D.size(); ++i) k.dist[i] = info.D[i];
+  if (info.width > static_cast<std::uint32_t>(kMaxImageSide) ||
+      info.height > static_cast<std::uint32_t>(kMaxImageSide))
+    k.width = k.height = kMaxImageSide + 1;  // refused below, not wrapped to a negative int
+  try {
+    checkIntrinsics(k);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("camera_info: ") + e.what());
+  }
   return k;
 }
 

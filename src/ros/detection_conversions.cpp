@@ -24,7 +24,13 @@ Region fromBlob(const Blob& blob) {
 std::vector<Region> fromBlobArray(const BlobArray& blobs) {
   std::vector<Region> regions;
   regions.reserve(blobs.blobs.size());
-  for (const Blob& b : blobs.blobs) regions.push_back(fromBlob(b));
+  for (const Blob& b : blobs.blobs) {
+    // A blob with NaN or Inf geometry comes from no segmentation: left out, as identification
+    // would cast its centroid to pixels.
+    const bool finite = std::isfinite(b.cx) && std::isfinite(b.cy) && std::isfinite(b.mu20) &&
+                        std::isfinite(b.mu11) && std::isfinite(b.mu02) && std::isfinite(b.orientation);
+    if (finite && b.area > 0) regions.push_back(fromBlob(b));
+  }
   return regions;
 }
 

@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "soccer_vision/common/camera_model.h"
+
 namespace soccer_vision {
 
 namespace {
@@ -13,8 +15,9 @@ int cvTypeOf(PixelLayout layout) { return isBayer(layout) ? CV_8UC1 : CV_8UC3; }
 
 bool imageMessageIsConsistent(const sensor_msgs::Image& msg, PixelLayout layout) {
   const std::size_t row = static_cast<std::size_t>(msg.width) * CV_ELEM_SIZE(cvTypeOf(layout));
-  return msg.width > 0 && msg.height > 0 && msg.step >= row &&
-         msg.data.size() >= static_cast<std::size_t>(msg.step) * msg.height &&
+  const auto max_side = static_cast<std::uint32_t>(kMaxImageSide);
+  return msg.width > 0 && msg.height > 0 && msg.width <= max_side && msg.height <= max_side &&
+         msg.step >= row && msg.data.size() >= static_cast<std::size_t>(msg.step) * msg.height &&
          (!isBayer(layout) || (msg.width % 2 == 0 && msg.height % 2 == 0));
 }
 

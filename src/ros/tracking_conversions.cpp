@@ -50,4 +50,39 @@ BallPoseArray toBallPoseArray(const TrackerOutput& out, const std_msgs::Header& 
   return msg;
 }
 
+TrackerOutput fromTrackingMessages(const RobotPoseArray& robots, const BallPoseArray& balls) {
+  TrackerOutput out;
+  out.stamp = robots.header.stamp.toSec();
+  for (const RobotPose& p : robots.robots) {
+    TrackedRobot r;
+    r.team = p.team == RobotPose::TEAM_YELLOW ? Team::Yellow : Team::Blue;
+    r.id = fromWireRobotId(p.id);
+    r.x = p.x;
+    r.y = p.y;
+    r.heading_valid = std::isfinite(p.theta);
+    r.theta = r.heading_valid ? p.theta : 0.0;
+    r.vx = p.vx;
+    r.vy = p.vy;
+    r.omega = p.omega;
+    r.confidence = p.confidence;
+    r.camera_id = p.camera_id;
+    r.visible = p.visible;
+    out.robots.push_back(r);
+  }
+  for (const BallPose& p : balls.balls) {
+    TrackedBall b;
+    b.primary = out.balls.empty();  // best first: the tracker's primary ball leads
+    b.x = p.x;
+    b.y = p.y;
+    b.z = p.z;
+    b.vx = p.vx;
+    b.vy = p.vy;
+    b.confidence = p.confidence;
+    b.camera_id = p.camera_id;
+    b.visible = p.visible;
+    out.balls.push_back(b);
+  }
+  return out;
+}
+
 }  // namespace soccer_vision

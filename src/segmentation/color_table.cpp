@@ -9,23 +9,25 @@
 #include <iterator>
 #include <stdexcept>
 
+#include <Eigen/Dense>
+
 namespace soccer_vision {
 namespace {
 
 // ---------------------------------------------------------------- sample collection
 
-// Even-odd rule on the pixel centre (half-open edges: a centre on a shared edge of two
-// adjacent polygons belongs to exactly one of them).
-bool centreInside(const Polygon& poly, double x, double y) {
-  bool inside = false;
+// Where a polygon's edges cross the row through pixel centres at y, sorted. A pixel centre
+// (u, y) is inside (even-odd rule, half-open edges: a centre on a shared edge of two adjacent
+// polygons belongs to exactly one of them) when an odd number of crossings lie right of u.
+// Per row instead of per pixel, the cost is rows x vertices, not pixels x vertices.
+void rowCrossings(const Polygon& poly, double y, std::vector<double>& xs) {
+  xs.clear();
   for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
     const Eigen::Vector2d& a = poly[i];
     const Eigen::Vector2d& b = poly[j];
-    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
+    if ((a.y() > y) != (b.y() > y)) xs.push_back((b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x());
   }
-  return inside;
+  std::sort(xs.begin(), xs.end());
 }
 
 // ---------------------------------------------------------------- construction
@@ -84,6 +86,99 @@ double logLikelihood(const ClassStatistics& st, double h, double s, double v) {
   const double ds = s - st.mean_s, dv = v - st.mean_v;
   return -0.5 * (dh * dh / st.var_h + ds * ds / st.var_s + dv * dv / st.var_v) -
          0.5 * std::log(st.var_h * st.var_s * st.var_v);
+}
+
+// One frame's samples reach only some HS cells of a class: the noise of other frames puts
+// pixels of the same markers into the cells between and around them. Every HS cell within
+// hs_closing cells (hue circular) of sampled ones and inside the class's Gaussian
+// (|dh| / sd_h and |ds| / sd_s within closing_sigmas, at the cell's nearest point to the
+// mean) takes the V range of those neighbours; overlaps with other classes are decided by
+// Bayes as before.
+void closeInHs(const ColorTableParams& params, const ClassStatistics& st, std::vector<int>& v_min,
+               std::vector<int>& v_max) {
+  const int hb = params.h_bins, sb = params.s_bins, r = params.hs_closing;
+  const double wh = 360.0 / hb, ws = 1.0 / sb;
+  const double sd_h = std::sqrt(st.var_h), sd_s = std::sqrt(st.var_s);
+  const std::vector<int> lo = v_min, hi = v_max;  // the sampled body
+  for (int h = 0; h < hb; ++h) {
+    // Distance of the cell's nearest hue to the mean (0 when the mean lies in the cell).
+    const double dh = std::max(0.0, std::abs(hueDifference((h + 0.5) * wh, st.mean_h_valid)) - 0.5 * wh);
+    if (dh > params.closing_sigmas * sd_h) continue;
+    for (int s = 0; s < sb; ++s) {
+      const double ds = std::max(0.0, std::abs((s + 0.5) * ws - st.mean_s) - 0.5 * ws);
+      if (ds > params.closing_sigmas * sd_s) continue;
+      const std::size_t cell = static_cast<std::size_t>(h) * sb + s;
+      int new_lo = v_min[cell], new_hi = v_max[cell];
+      for (int dhb = -r; dhb <= r; ++dhb) {
+        const int nh = ((h + dhb) % hb + hb) % hb;
+        for (int nsb = std::max(0, s - r); nsb <= std::min(sb - 1, s + r); ++nsb) {
+          const std::size_t n = static_cast<std::size_t>(nh) * sb + nsb;
+          if (hi[n] < lo[n]) continue;
+          new_lo = std::min(new_lo, lo[n]);
+          new_hi = std::max(new_hi, hi[n]);
+        }
+      }
+      v_min[cell] = new_lo;
+      v_max[cell] = new_hi;
+    }
+  }
+}
+
+// A class's colour as a Gaussian in L*a*b*: its valid samples' mean and covariance, widened
+// by the spread one frame does not show (ColorTableParams::spread_l, spread_ab).
+struct LabGaussian {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inverse = Eigen::Matrix3d::Identity();
+  double log_det = 0;
+
+  double mahalanobis2(const Lab& x) const {
+    const Eigen::Vector3d d(x.l - mean(0), x.a - mean(1), x.b - mean(2));
+    return d.dot(inverse * d);
+  }
+  // Up to the constant shared by all classes.
+  double logLikelihood(const Lab& x) const { return -0.5 * (mahalanobis2(x) + log_det); }
+};
+
+LabGaussian fitLabGaussian(const std::vector<Lab>& valid, const ColorTableParams& params) {
+  LabGaussian g;
+  const double n = static_cast<double>(valid.size());
+  for (const Lab& x : valid) g.mean += Eigen::Vector3d(x.l, x.a, x.b) / n;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Lab& x : valid) {
+    const Eigen::Vector3d d = Eigen::Vector3d(x.l, x.a, x.b) - g.mean;
+    cov += d * d.transpose() / n;
+  }
+  cov += Eigen::Vector3d(params.spread_l * params.spread_l, params.spread_ab * params.spread_ab,
+                         params.spread_ab * params.spread_ab)
+             .asDiagonal();
+  g.inverse = cov.inverse();
+  g.log_det = std::log(cov.determinant());
+  return g;
+}
+
+// The colours of every cell at which generalisation tests the classes: its centre and 8
+// points a quarter cell inside its corners, so a cell the Gaussian reaches into is found
+// although its centre lies outside.
+constexpr int kCellProbes = 9;
+std::vector<Lab> cellProbeColors(const ColorTableParams& params) {
+  const int hb = params.h_bins, sb = params.s_bins, vb = params.v_bins;
+  const double wh = 360.0 / hb, ws = 1.0 / sb, wv = 256.0 / vb;
+  std::vector<Lab> probes;
+  probes.reserve(static_cast<std::size_t>(hb) * sb * vb * kCellProbes);
+  for (int h = 0; h < hb; ++h) {
+    for (int s = 0; s < sb; ++s) {
+      for (int v = 0; v < vb; ++v) {
+        for (int k = 0; k < kCellProbes; ++k) {
+          const double oh = k == 0 ? 0.5 : (k & 1) ? 0.25 : 0.75;
+          const double os = k == 0 ? 0.5 : (k & 2) ? 0.25 : 0.75;
+          const double ov = k == 0 ? 0.5 : (k & 4) ? 0.25 : 0.75;
+          const auto bgr = hsvToBgr({(h + oh) * wh, (s + os) * ws, std::min((v + ov) * wv, 255.0)});
+          probes.push_back(bgrToLab(bgr[0], bgr[1], bgr[2]));
+        }
+      }
+    }
+  }
+  return probes;
 }
 
 // ---------------------------------------------------------------- file format
@@ -238,8 +333,10 @@ ClassStatistics readClassStatistics(ByteReader& r) {
 
 std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
                                                                   const ColorSamples& samples) {
+  checkColorSamples(samples);  // NaN/huge vertices would overflow the int casts below
   std::map<ColorClass, std::vector<cv::Point>> out;
   cv::Mat1b taken(image_size);
+  std::vector<double> crossings;
   for (const auto& [color, polygons] : samples) {
     taken.setTo(0);
     auto& pixels = out[color];
@@ -258,8 +355,11 @@ std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image
       const int v0 = static_cast<int>(std::clamp(std::ceil(y0), 0.0, static_cast<double>(image_size.height)));
       const int v1 = static_cast<int>(std::clamp(std::floor(y1), -1.0, image_size.height - 1.0));
       for (int v = v0; v <= v1; ++v) {
+        rowCrossings(poly, v, crossings);
+        std::size_t left = 0;  // crossings at or left of u
         for (int u = u0; u <= u1; ++u) {
-          if (!taken(v, u) && centreInside(poly, u, v)) {
+          while (left < crossings.size() && crossings[left] <= u) ++left;
+          if ((crossings.size() - left) % 2 == 1 && !taken(v, u)) {
             taken(v, u) = 1;
             pixels.emplace_back(u, v);
           }
@@ -294,6 +394,13 @@ void ColorTableParams::validate() const {
   if (s_bins < 1 || s_bins > 256) fail("s_bins must be in 1..256, got " + std::to_string(s_bins));
   if (v_bins < 1 || v_bins > 256) fail("v_bins must be in 1..256, got " + std::to_string(v_bins));
   if (v_margin < 0 || v_margin > 255) fail("v_margin must be in 0..255, got " + std::to_string(v_margin));
+  if (hs_closing < 0 || hs_closing > 8) fail("hs_closing must be in 0..8, got " + std::to_string(hs_closing));
+  if (!(closing_sigmas > 0)) fail("closing_sigmas must be positive");
+  if (!(generalize_sigmas >= 0 && generalize_sigmas <= 10)) fail("generalize_sigmas must be in 0..10");
+  if (!(background_share >= 0 && background_share <= 1)) fail("background_share must be in 0..1");
+  if (!(spread_l > 0 && spread_l <= 100) || !(spread_ab > 0 && spread_ab <= 100)) {
+    fail("spread_l and spread_ab must be in (0, 100]");
+  }
   auto check = [&](const ClassThresholds& t, const std::string& who) {
     if (!(t.lab > 0) || !(t.h > 0)) fail(who + ": thresholds must be positive");
   };
@@ -328,8 +435,8 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
   return buildFromSamplePixels(as_taken, params);
 }
 
-ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples,
-                                             const ColorTableParams& params) {
+ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params,
+                                             const std::vector<SamplePixel>& background) {
   params.validate();
   ColorTable table;
   table.params_ = params;
@@ -341,6 +448,22 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples,
   static_assert(kNumColorClasses <= 16, "claims are a 16-bit mask");
   std::vector<std::uint16_t> claims(n_cells, 0);
   std::vector<int> v_min(hs_cells), v_max(hs_cells);
+  const bool generalize = params.generalize_sigmas > 0;
+  std::array<LabGaussian, kNumColorClasses> lab_models;
+  const std::vector<Lab> probes = generalize ? cellProbeColors(params) : std::vector<Lab>();
+  // Cells the background fills: generalisation leaves them alone.
+  std::vector<bool> background_cell;
+  if (generalize && params.background_share > 0 && !background.empty()) {
+    std::vector<std::uint32_t> counts(n_cells, 0);
+    for (const SamplePixel& p : background) {
+      const Hsv hsv = bgrToHsv(p.bgr[0], p.bgr[1], p.bgr[2]);
+      ++counts[(static_cast<std::size_t>(table.hBin(hsv.h)) * s_bins + table.sBin(hsv.s)) * v_bins +
+               table.vBin(p.v)];
+    }
+    const double limit = params.background_share * static_cast<double>(background.size());
+    background_cell.resize(n_cells);
+    for (std::size_t i = 0; i < n_cells; ++i) background_cell[i] = counts[i] > limit;
+  }
 
   for (const auto& [color, pixels] : samples) {
     if (color == ColorClass::None || color >= ColorClass::Count) {
@@ -370,10 +493,12 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples,
     st.mean_h = circularMeanDegrees(hsv);
 
     std::vector<Hsv> valid;
+    std::vector<Lab> valid_lab;
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       if (labDistance(lab[i], st.mean_lab) < st.thresholds.lab &&
           hueDistance(hsv[i].h, st.mean_h) < st.thresholds.h) {
         valid.push_back(hsv[i]);
+        valid_lab.push_back(lab[i]);
       }
     }
     st.valid = static_cast<std::uint32_t>(valid.size());
@@ -388,15 +513,30 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples,
       v_min[hs] = std::min(v_min[hs], v);
       v_max[hs] = std::max(v_max[hs], v);
     }
+    if (params.hs_closing > 0 && !valid.empty()) closeInHs(params, st, v_min, v_max);
     const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));
     for (std::size_t hs = 0; hs < hs_cells; ++hs) {
       if (v_max[hs] < v_min[hs]) continue;
       for (int vb = table.vBin(v_min[hs] - params.v_margin); vb <= table.vBin(v_max[hs] + params.v_margin);
            ++vb) {
         claims[hs * v_bins + vb] |= bit;
-        ++st.cells_claimed;
       }
     }
+    if (generalize && !valid.empty()) {
+      const LabGaussian& model = lab_models[static_cast<std::size_t>(color)] =
+          fitLabGaussian(valid_lab, params);
+      const double bound = params.generalize_sigmas * params.generalize_sigmas;
+      for (std::size_t i = 0; i < n_cells; ++i) {
+        if ((claims[i] & bit) || (!background_cell.empty() && background_cell[i])) continue;
+        for (int k = 0; k < kCellProbes; ++k) {
+          if (model.mahalanobis2(probes[i * kCellProbes + k]) <= bound) {
+            claims[i] |= bit;
+            break;
+          }
+        }
+      }
+    }
+    for (std::size_t i = 0; i < n_cells; ++i) st.cells_claimed += (claims[i] & bit) != 0;
   }
 
   table.cells_.assign(n_cells, ColorClass::None);
@@ -416,7 +556,9 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples,
       double best = -HUGE_VAL;
       for (int c = 0; c < kNumColorClasses; ++c) {
         if (!(mask & (1u << c))) continue;
-        const double ll = logLikelihood(table.stats_.classes[c], h, s, v);
+        // With generalisation the classes' L*a*b* Gaussians decide, as they claimed.
+        const double ll = generalize ? lab_models[c].logLikelihood(probes[i * kCellProbes])
+                                     : logLikelihood(table.stats_.classes[c], h, s, v);
         if (ll > best) {  // ties go to the lower class value: deterministic
           best = ll;
           winner = c;
@@ -437,6 +579,29 @@ ColorTable ColorTable::withIlluminationLevels(cv::Mat levels) const {
   }
   ColorTable table = *this;
   table.illumination_levels_ = levels.empty() ? cv::Mat() : levels.clone();
+  return table;
+}
+
+ColorTable ColorTable::withClassesFrom(const ColorTable& other,
+                                       const std::vector<ColorClass>& classes) const {
+  if (other.params_.h_bins != params_.h_bins || other.params_.s_bins != params_.s_bins ||
+      other.params_.v_bins != params_.v_bins) {
+    throw std::invalid_argument("colour table: cannot take cells from a table of another quantisation");
+  }
+  std::array<bool, kNumColorClasses> take{};
+  for (const ColorClass c : classes) {
+    if (c != ColorClass::None) take[static_cast<int>(c)] = true;
+  }
+  ColorTable table = *this;
+  for (int c = 0; c < kNumColorClasses; ++c) {
+    if (take[c]) table.stats_.classes[c] = other.stats_.classes[c];
+    table.stats_.classes[c].cells_assigned = 0;
+  }
+  for (std::size_t i = 0; i < table.cells_.size(); ++i) {
+    const ColorClass theirs = other.cells_[i];
+    if (table.cells_[i] == ColorClass::None && take[static_cast<int>(theirs)]) table.cells_[i] = theirs;
+    ++table.stats_.classes[static_cast<int>(table.cells_[i])].cells_assigned;
+  }
   return table;
 }
 

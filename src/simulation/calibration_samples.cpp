@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+
+#include <opencv2/core.hpp>
 
 namespace soccer_vision {
 namespace {
@@ -28,6 +31,28 @@ std::vector<Eigen::Vector2d> outline(const MarkerShape& m, double shrink) {
     pts = {{m.x - hx, m.y - hy}, {m.x + hx, m.y - hy}, {m.x + hx, m.y + hy}, {m.x - hx, m.y + hy}};
   }
   return pts;
+}
+
+// The shape grown (negative: shrunk) by `by` metres on every side; nullopt when nothing is left.
+std::optional<MarkerShape> inset(MarkerShape m, double by) {
+  if (m.kind == MarkerShape::Kind::Disc) {
+    m.radius -= by;
+    if (m.radius <= 0) return std::nullopt;
+  } else {
+    m.size_x -= 2 * by;
+    m.size_y -= 2 * by;
+    if (m.size_x <= 0 || m.size_y <= 0) return std::nullopt;
+  }
+  return m;
+}
+
+// Metres per pixel at a field point, as the camera sees a small horizontal step there.
+double metresPerPixel(const CameraModel& camera, const Eigen::Vector3d& p) {
+  constexpr double kStep = 0.01;
+  const auto a = camera.project(p), b = camera.project(p + Eigen::Vector3d(kStep, 0, 0)),
+             c = camera.project(p + Eigen::Vector3d(0, kStep, 0));
+  if (!a || !b || !c) return 0;
+  return kStep / std::min((*b - *a).norm(), (*c - *a).norm());
 }
 
 // Distance from a point (robot frame) to the nearest marker edge, negative inside.
@@ -107,8 +132,33 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
     const auto markers = patterns.markers(r.team, r.id);
     for (const auto& m : markers) {
       std::vector<Eigen::Vector3d> pts;
-      for (const auto& q : outline(m.shape, options.shrink))
-        pts.push_back(robotToField(r, q.x(), q.y(), z_top));
+      MarkerShape shape = m.shape;
+      double scale = options.shrink;
+      if (options.inset_px > 0) {
+        const double mpp = metresPerPixel(camera, robotToField(r, m.shape.x, m.shape.y, z_top));
+        if (mpp <= 0) continue;
+        const auto inner = inset(m.shape, options.inset_px * mpp);
+        const auto half_width = [](const MarkerShape& s) {
+          return s.kind == MarkerShape::Kind::Disc ? s.radius : std::min(s.size_x, s.size_y) / 2;
+        };
+        if (inner && half_width(*inner) >= 0.5 * mpp) {
+          shape = *inner;
+        } else {
+          // Thinner than twice the inset: a user paints a 1 px stroke along its middle (or
+          // clicks the centre of a dot); under 2 px across, not even that.
+          if (half_width(m.shape) < mpp) continue;
+          if (shape.kind == MarkerShape::Kind::Disc) {
+            shape.radius = 0.6 * mpp;
+          } else {
+            double& minor = shape.size_x < shape.size_y ? shape.size_x : shape.size_y;
+            double& major = shape.size_x < shape.size_y ? shape.size_y : shape.size_x;
+            minor = mpp;
+            major = std::max(major - 2 * options.inset_px * mpp, mpp);
+          }
+        }
+        scale = 1.0;
+      }
+      for (const auto& q : outline(shape, scale)) pts.push_back(robotToField(r, q.x(), q.y(), z_top));
       if (projector.project(pts, poly)) samples[m.color].push_back(poly);
     }
     double clearance = 0;
@@ -126,7 +176,13 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
 
   for (const auto& b : scene.balls) {
     // A disc on the plane through the ball centre: its outline projects inside the ball.
-    const double radius = options.shrink * 0.0215;
+    double radius = options.shrink * 0.0215;
+    if (options.inset_px > 0) {
+      const double mpp = metresPerPixel(camera, Eigen::Vector3d(b.x, b.y, b.z));
+      radius = 0.0215 - options.inset_px * mpp;
+      if (mpp <= 0 || 0.0215 < mpp) continue;      // under 2 px across
+      if (radius < 0.5 * mpp) radius = 0.6 * mpp;  // a click on its centre pixel, as for a dot
+    }
     std::vector<Eigen::Vector3d> pts;
     for (int i = 0; i < kPolygonVertices; ++i) {
       const double a = 2 * M_PI * i / kPolygonVertices;
@@ -178,6 +234,12 @@ std::vector<FieldCorrespondence> fieldCorrespondences(const CameraModel& camera,
     if (px && camera.inImage(*px, image_margin)) out.push_back({*px, p});
   }
   return out;
+}
+
+void addClickNoise(std::vector<FieldCorrespondence>& points, double sigma_px, std::uint64_t seed) {
+  cv::RNG rng(seed * 0x9E3779B97F4A7C15ULL + 0x632BE59BD9B4E019ULL);
+  for (FieldCorrespondence& p : points)
+    p.pixel += Eigen::Vector2d(rng.gaussian(sigma_px), rng.gaussian(sigma_px));
 }
 
 }  // namespace soccer_vision

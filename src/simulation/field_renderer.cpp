@@ -6,6 +6,12 @@
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "soccer_vision/simulation/camera_response.h"
+#include "soccer_vision/simulation/carpet_texture.h"
+#include "soccer_vision/simulation/distractors.h"
+#include "soccer_vision/simulation/lamps.h"
 
 namespace soccer_vision {
 
@@ -15,6 +21,7 @@ constexpr double kBallRadius = 0.0215;  // m
 constexpr int kNoiseMargin = 32;        // px: the noise plane is shifted per frame
 constexpr double kBoundsMargin = 0.01;  // m around objects when bounding them
 constexpr int kBoundsPoints = 24;       // samples of a circle when bounding it
+constexpr float kPenumbra = 0.02f;      // m: width of a lamp shadow's soft edge
 
 const cv::Vec3f kRobotSide = albedoFromRgb(12, 12, 12);  // darker than the top: lit from above
 
@@ -73,20 +80,28 @@ struct FieldRenderer::Impl {
   PatternSet patterns;
   ScenarioConfig scenario;
   IlluminationModel illumination;
+  LampSet lamps;
+  CarpetTexture carpet_texture;
+  CameraResponse response;
+  std::vector<Distractor> distractors;
   int width, height;
   Eigen::Vector3d centre;  // camera centre in `field`
   Eigen::Isometry3d camera_T_field;
   double fold_radius = HUGE_VAL;  // normalised radius where the distortion folds back
   std::string encoding = "bgr8";
   std::array<std::array<int, 2>, 2> bayer_channel{};  // [row & 1][col & 1] -> B/G/R index
-  bool bayer = false;
+  bool bayer = false;                                 // the output is the raw mosaic
+  bool camera_demosaic = false;                       // mosaic, then the camera's own demosaic: BGR output
 
-  cv::Mat ground;             // CV_32FC2: where each pixel's ray meets z = 0
-  cv::Mat footprint;          // CV_32F: side of the pixel's footprint on z = 0, m
-  cv::Mat gain;               // CV_32F: spatial illumination gain
-  cv::Mat lit_background;     // CV_32FC3: background albedo * gain
-  cv::Mat background_labels;  // CV_8U: ColorClass
-  cv::Mat noise;              // CV_32FC3, kNoiseMargin larger; empty when noise is off
+  cv::Mat ground;                   // CV_32FC2: where each pixel's ray meets z = 0
+  cv::Mat footprint;                // CV_32F: side of the pixel's footprint on z = 0, m
+  cv::Mat gain;                     // CV_32F: spatial illumination gain (lamps without drift)
+  cv::Mat smooth_gain;              // CV_32F: the IlluminationModel's part of it
+  std::vector<cv::Mat> lamp_light;  // CV_32F per lamp: its irradiance at each pixel's ground point
+  cv::Mat background_albedo;        // CV_32FC3: floor, carpet (textured), lines, distractors
+  cv::Mat lit_background;           // CV_32FC3: background albedo * gain
+  cv::Mat background_labels;        // CV_8U: ColorClass
+  cv::Mat noise;                    // CV_32FC3, kNoiseMargin larger; empty when noise is off
 
   Impl(const CameraModel& cam, const FieldGeometry& f, const PatternSet& p, const ScenarioConfig& s)
       : camera(cam),
@@ -94,6 +109,10 @@ struct FieldRenderer::Impl {
         patterns(p),
         scenario(s),
         illumination(s.lighting, f, s.seed),
+        lamps(s.appearance, f, s.seed),
+        carpet_texture(s.appearance, s.seed),
+        response(s.appearance, s.sensor, cam.width(), cam.height(), s.seed),
+        distractors(distractorLayout(s.appearance.distractors, f, s.seed)),
         width(cam.width()),
         height(cam.height()),
         centre(cam.cameraCentre()),
@@ -118,6 +137,11 @@ struct FieldRenderer::Impl {
     bayer = true;
     encoding = "bayer_" + b + "8";
     bayer_channel = {{{channel(b[0]), channel(b[1])}, {channel(b[2]), channel(b[3])}}};
+    if (scenario.appearance.demosaic) {
+      bayer = false;
+      camera_demosaic = true;
+      encoding = "bgr8";
+    }
   }
 
   // Beyond this radius the radial polynomial is no longer monotonic: projecting such a
@@ -169,14 +193,15 @@ struct FieldRenderer::Impl {
     const cv::Vec3f carpet = classAlbedo(ColorClass::Carpet);
     const cv::Vec3f line = classAlbedo(ColorClass::Line);
 
-    gain.create(height, width, CV_32F);
-    lit_background.create(height, width, CV_32FC3);
+    smooth_gain.create(height, width, CV_32F);
+    background_albedo.create(height, width, CV_32FC3);
     background_labels.create(height, width, CV_8U);
+    for (std::size_t k = 0; k < lamps.size(); ++k) lamp_light.emplace_back(height, width, CV_32F);
     for (int v = 0; v < height; ++v) {
       const auto* g = ground.ptr<cv::Vec2f>(v);
       const float* fp = footprint.ptr<float>(v);
-      float* gn = gain.ptr<float>(v);
-      auto* lit = lit_background.ptr<cv::Vec3f>(v);
+      float* gn = smooth_gain.ptr<float>(v);
+      auto* albedo = background_albedo.ptr<cv::Vec3f>(v);
       auto* label = background_labels.ptr<std::uint8_t>(v);
       for (int u = 0; u < width; ++u) {
         const Eigen::Vector2d p(g[u][0], g[u][1]);
@@ -188,12 +213,59 @@ struct FieldRenderer::Impl {
         }
         const float on_line = coverage(static_cast<float>(line_sdf - half_line), fp[u]);
         gn[u] = static_cast<float>(illumination.spatialGain(p.x(), p.y()));
-        lit[u] = gn[u] * (floor * (1 - on_carpet) + on_carpet * (carpet * (1 - on_line) + line * on_line));
+        for (std::size_t k = 0; k < lamps.size(); ++k)
+          lamp_light[k].at<float>(v, u) = static_cast<float>(lamps.irradiance(k, p.x(), p.y()));
+        const cv::Vec3f textured = on_carpet > 0 && carpet_texture.active()
+                                       ? carpet * static_cast<float>(carpet_texture.shade(p.x(), p.y()))
+                                       : carpet;
+        albedo[u] = floor * (1 - on_carpet) + on_carpet * (textured * (1 - on_line) + line * on_line);
         label[u] = static_cast<std::uint8_t>(on_carpet < 0.5f  ? ColorClass::None
                                              : on_line >= 0.5f ? ColorClass::Line
                                                                : ColorClass::Carpet);
+        if (!distractors.empty() && distanceOutsideLines(field, p.x(), p.y()) > 0) {
+          for (const Distractor& d : distractors) {
+            if (std::hypot(p.x() - d.x, p.y() - d.y) > d.boundingRadius() + fp[u]) continue;
+            const float c = coverage(d.sdf(g[u][0], g[u][1]), fp[u]);
+            albedo[u] = albedo[u] * (1 - c) + c * d.albedo;
+            if (c >= 0.5f) label[u] = static_cast<std::uint8_t>(ColorClass::None);
+          }
+        }
       }
     }
+    gain = lampGain(std::vector<double>(lamps.size(), 1.0));
+    lit_background = litBy(gain);
+  }
+
+  // The spatial gain with each lamp at its relative intensity.
+  cv::Mat lampGain(const std::vector<double>& intensity) const {
+    if (lamps.empty()) return smooth_gain;
+    cv::Mat sum(height, width, CV_32F, cv::Scalar(0));
+    for (std::size_t k = 0; k < lamps.size(); ++k) cv::scaleAdd(lamp_light[k], intensity[k], sum, sum);
+    return sum.mul(smooth_gain);
+  }
+
+  cv::Mat litBy(const cv::Mat& spatial_gain) const {
+    cv::Mat gain3, lit;
+    cv::merge(std::vector<cv::Mat>{spatial_gain, spatial_gain, spatial_gain}, gain3);
+    cv::multiply(background_albedo, gain3, lit);
+    return lit;
+  }
+
+  std::vector<double> lampIntensities(double t) const {
+    std::vector<double> out;
+    for (std::size_t k = 0; k < lamps.size(); ++k) out.push_back(lamps.drift(k, t));
+    return out;
+  }
+
+  bool castsShadows() const { return !lamps.empty() && scenario.appearance.shadow > 0; }
+
+  // How far beyond its axis a robot's shadows may reach on the carpet.
+  double shadowReach(const RobotState& r) const {
+    double reach = 0;
+    for (std::size_t k = 0; k < lamps.size(); ++k)
+      reach = std::max(
+          reach, (lamps.shadowTip(k, r.x, r.y, patterns.robot_height) - Eigen::Vector2d(r.x, r.y)).norm());
+    return reach + 2 * kPenumbra;
   }
 
   // Field point -> raw pixel for bounding boxes; points past the distortion fold are sent
@@ -236,7 +308,8 @@ struct FieldRenderer::Impl {
     const double h = patterns.robot_height;
     for (std::size_t i = 0; i < scene.robots.size(); ++i) {
       const RobotState& r = scene.robots[i];
-      out.push_back({true, i, boundCircles(r.x, r.y, patterns.robot_radius, {0.0, h}),
+      const double reach = castsShadows() ? shadowReach(r) : 0.0;
+      out.push_back({true, i, boundCircles(r.x, r.y, patterns.robot_radius + reach, {0.0, h}),
                      std::hypot(r.x - centre.x(), r.y - centre.y())});
     }
     for (std::size_t i = 0; i < scene.balls.size(); ++i) {
@@ -259,6 +332,16 @@ struct FieldRenderer::Impl {
                 patterns.markers(r.team, r.id),
                 {}};
     for (const ColoredMarker& m : l.markers) l.albedo.push_back(classAlbedo(m.color));
+    const double spread = scenario.appearance.marker_albedo_spread;
+    if (spread > 0) {
+      // Each printed marker its own colour, the same in every frame.
+      for (std::size_t k = 0; k < l.albedo.size(); ++k) {
+        cv::RNG rng(scenario.seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(r.team) * 7919 +
+                    static_cast<std::uint64_t>(r.id) * 104729 + k * 1299709 + 5);
+        for (int ch = 0; ch < 3; ++ch)
+          l.albedo[k][ch] *= static_cast<float>(std::max(0.2, 1 + spread * rng.gaussian(1.0)));
+      }
+    }
     return l;
   }
 
@@ -292,12 +375,41 @@ struct FieldRenderer::Impl {
     return ray;
   }
 
-  void drawRobot(const RobotLook& l, const cv::Rect& area, cv::Mat& patch, cv::Point origin) const {
+  // Darkens the background in the soft shadows robot `r` casts from every lamp: the share
+  // of the light each lamp brings there, times the share of it the robot blocks.
+  void shadeShadows(const RobotState& r, const std::vector<double>& intensity, const cv::Rect& area,
+                    cv::Mat& patch, cv::Point origin) const {
+    const float radius = static_cast<float>(patterns.robot_radius);
+    const Eigen::Vector2d base(r.x, r.y);
+    std::vector<Eigen::Vector2d> tips;
+    for (std::size_t k = 0; k < lamps.size(); ++k)
+      tips.push_back(lamps.shadowTip(k, r.x, r.y, patterns.robot_height));
+    const float strength = static_cast<float>(scenario.appearance.shadow);
+    for (int v = area.y; v < area.br().y; ++v) {
+      const auto* g = ground.ptr<cv::Vec2f>(v);
+      const float* fp = footprint.ptr<float>(v);
+      auto* out = patch.ptr<cv::Vec3f>(v - origin.y) - origin.x;
+      for (int u = area.x; u < area.br().x; ++u) {
+        const Eigen::Vector2d p(g[u][0], g[u][1]);
+        double total = 0, blocked = 0;
+        for (std::size_t k = 0; k < lamps.size(); ++k) {
+          const double light = intensity[k] * lamp_light[k].at<float>(v, u);
+          total += light;
+          const float sdf = static_cast<float>(segmentDistance(p, base, tips[k])) - radius;
+          blocked += light * coverage(sdf, kPenumbra + fp[u]);
+        }
+        if (blocked > 0) out[u] *= 1 - strength * static_cast<float>(blocked / total);
+      }
+    }
+  }
+
+  void drawRobot(const RobotLook& l, const cv::Mat& spatial_gain, const cv::Rect& area, cv::Mat& patch,
+                 cv::Point origin) const {
     const cv::Vec3f top_albedo = classAlbedo(ColorClass::RobotTop);
     for (int v = area.y; v < area.br().y; ++v) {
       const auto* g = ground.ptr<cv::Vec2f>(v);
       const float* fp = footprint.ptr<float>(v);
-      const float* gn = gain.ptr<float>(v);
+      const float* gn = spatial_gain.ptr<float>(v);
       auto* out = patch.ptr<cv::Vec3f>(v - origin.y) - origin.x;
       for (int u = area.x; u < area.br().x; ++u) {
         const RobotRay ray = traceRobot(l, g[u], fp[u]);
@@ -352,7 +464,8 @@ struct FieldRenderer::Impl {
     }
   }
 
-  void drawBall(const BallState& b, const cv::Rect& area, cv::Mat& patch, cv::Point origin) const {
+  void drawBall(const BallState& b, const cv::Mat& spatial_gain, const cv::Rect& area, cv::Mat& patch,
+                cv::Point origin) const {
     const cv::Vec3f orange = classAlbedo(ColorClass::Orange);
     const float radius = static_cast<float>(kBallRadius);
     traceBall(b, area, [&](int u, int v, float distance, float along) {
@@ -362,7 +475,7 @@ struct FieldRenderer::Impl {
       const float q = std::min(1.f, distance / radius);
       const float shade = 0.75f + 0.25f * std::sqrt(1 - q * q);
       cv::Vec3f& out = patch.at<cv::Vec3f>(v - origin.y, u - origin.x);
-      out = out * (1 - c) + (c * shade * gain.at<float>(v, u)) * orange;
+      out = out * (1 - c) + (c * shade * spatial_gain.at<float>(v, u)) * orange;
     });
   }
 
@@ -375,14 +488,21 @@ struct FieldRenderer::Impl {
 
   // Objects of one (sub-)frame painted over the lit background inside `region`.
   void paintObjects(const SceneState& scene, const std::vector<Drawable>& items, const cv::Rect& region,
-                    cv::Mat& patch) const {
+                    const cv::Mat& gain_now, const std::vector<double>& intensity, cv::Mat& patch) const {
+    if (castsShadows()) {
+      for (const Drawable& d : items) {
+        const cv::Rect area = d.box & region;
+        if (d.is_robot && !area.empty())
+          shadeShadows(scene.robots[d.index], intensity, area, patch, region.tl());
+      }
+    }
     for (const Drawable& d : items) {
       const cv::Rect area = d.box & region;
       if (area.empty()) continue;
       if (d.is_robot)
-        drawRobot(look(scene.robots[d.index]), area, patch, region.tl());
+        drawRobot(look(scene.robots[d.index]), gain_now, area, patch, region.tl());
       else
-        drawBall(scene.balls[d.index], area, patch, region.tl());
+        drawBall(scene.balls[d.index], gain_now, area, patch, region.tl());
     }
   }
 
@@ -402,7 +522,18 @@ struct FieldRenderer::Impl {
       const int dx = rng.uniform(0, kNoiseMargin + 1), dy = rng.uniform(0, kNoiseMargin + 1);
       noise_view = noise(cv::Rect(dx, dy, width, height));
     }
-    expose(lit_background, global_gain, noise_view, bgr);
+    // Lamps drifting on their own change the light's shape, not only its level.
+    const bool drifting = !lamps.empty() && scenario.appearance.lamp_drift > 0;
+    const std::vector<double> intensity =
+        drifting ? lampIntensities(scene.time) : std::vector<double>(lamps.size(), 1.0);
+    const cv::Mat gain_now = drifting ? lampGain(intensity) : gain;
+    const cv::Mat lit_now = drifting ? litBy(gain_now) : lit_background;
+    // With a camera response the frame is composed in linear light first.
+    cv::Mat linear;
+    if (response.active())
+      linear = lit_now.clone();
+    else
+      expose(lit_now, global_gain, noise_view, bgr);
 
     // Sub-exposures for motion blur; objects are redrawn only inside the regions they sweep.
     const int samples = std::max(1, scenario.sensor.blur_samples);
@@ -424,13 +555,17 @@ struct FieldRenderer::Impl {
       cv::Mat sum(region.size(), CV_32FC3, cv::Scalar::all(0));
       cv::Mat patch;
       for (int k = 0; k < samples; ++k) {
-        lit_background(region).copyTo(patch);
-        paintObjects(states[k], items[k], region, patch);
+        lit_now(region).copyTo(patch);
+        paintObjects(states[k], items[k], region, gain_now, intensity, patch);
         sum += patch;
       }
       if (samples > 1) sum *= 1.0 / samples;
-      expose(sum, global_gain, noise_view.empty() ? cv::Mat() : noise_view(region), bgr(region));
+      if (response.active())
+        sum.copyTo(linear(region));
+      else
+        expose(sum, global_gain, noise_view.empty() ? cv::Mat() : noise_view(region), bgr(region));
     }
+    if (response.active()) response.apply(linear, global_gain, noise_view, frame_index, bgr);
   }
 
   // Overlapping boxes become their union, so no pixel is accumulated twice.
@@ -469,13 +604,26 @@ void FieldRenderer::render(const SceneState& scene, std::int64_t frame_index, Re
   out.encoding = m.encoding;
   out.image.create(m.height, m.width, m.bayer ? CV_8UC1 : CV_8UC3);
   const int quality = m.scenario.sensor.jpeg_quality;
-  if (!m.bayer && quality <= 0) {
+  if (!m.bayer && !m.camera_demosaic && quality <= 0) {
     m.renderBgr(scene, frame_index, out.image);
     return;
   }
   thread_local cv::Mat bgr;  // scratch of the colour image before JPEG / mosaic
   bgr.create(m.height, m.width, CV_8UC3);
   m.renderBgr(scene, frame_index, bgr);
+  if (m.camera_demosaic) {
+    // What a colour camera outputs: its sensor's mosaic, interpolated by its own demosaic.
+    // OpenCV names Bayer patterns by the second row: an RGGB mosaic is COLOR_BayerBG2BGR.
+    thread_local cv::Mat raw;
+    raw.create(m.height, m.width, CV_8UC1);
+    m.mosaic(bgr, raw);
+    const std::string& b = m.scenario.sensor.bayer;
+    const int code = b == "rggb"   ? cv::COLOR_BayerBG2BGR
+                     : b == "bggr" ? cv::COLOR_BayerRG2BGR
+                     : b == "gbrg" ? cv::COLOR_BayerGR2BGR
+                                   : cv::COLOR_BayerGB2BGR;
+    cv::cvtColor(raw, bgr, code);
+  }
   if (quality > 0) {
     thread_local std::vector<std::uint8_t> jpeg;
     cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, std::min(quality, 100)});

@@ -10,21 +10,21 @@
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
+#include "soccer_vision/simulation/scenario_camera.h"
 
 namespace soccer_vision {
 
 ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index,
                                     const SyntheticCalibration& how) {
   const std::optional<PixelLayout> layout =
-      scenario.sensor.bayer.empty() ? PixelLayout::Bgr
-                                    : pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
+      scenario.sensor.bayer.empty() || scenario.appearance.demosaic
+          ? PixelLayout::Bgr
+          : pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
   if (!layout) throw std::invalid_argument("unknown Bayer pattern '" + scenario.sensor.bayer + "'");
   const FieldGeometry field = fieldGeometryByName(scenario.field);
   const PatternSet patterns = patternSetByName(scenario.pattern);
   GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
-  const FieldRenderer renderer(
-      CameraModel::defaultCamera(field, camera_index, scenario.width, scenario.height), field, patterns,
-      scenario);
+  const FieldRenderer renderer(scenarioCamera(field, camera_index, scenario), field, patterns, scenario);
   std::vector<CalibrationImage> images;
   const int steps_between = static_cast<int>(std::lround(how.seconds_between * scenario.fps));
   for (int i = 0; i < how.frames; ++i) {

@@ -8,6 +8,7 @@
 
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
+#include "soccer_vision/simulation/scenario_camera.h"
 
 namespace soccer_vision {
 
@@ -104,7 +105,7 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
       patterns_ = PatternSet::twoTag();
     }
     field_ = fieldGeometryByName(scenario.field);
-    camera_ = CameraModel::defaultCamera(field_, options.camera_index, scenario.width, scenario.height);
+    camera_ = scenarioCamera(field_, options.camera_index, scenario);
     sim_ = std::make_unique<GameSimulator>(scenario, field_, patterns_.maxRobotsPerTeam());
     renderer_ = std::make_unique<FieldRenderer>(camera_, field_, patterns_, scenario);
   } catch (const std::exception& e) {

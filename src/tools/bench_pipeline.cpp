@@ -5,7 +5,7 @@
 // offline evaluation runs). A benchmark, not a test.
 //
 //   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N]
-//       [--width W --height H] [--cold] [--repeat R] [--json FILE]
+//       [--width W --height H] [--cold] [--repeat R] [--ssl] [--json FILE]
 //
 // Frames of synthetic camera 0 are rendered first (not timed), with the scenario's pattern
 // and a colour table calibrated like the demo's; then each frame is processed in order on
@@ -19,24 +19,36 @@
 // ours a single pass's p99 varies by up to 2x from run to run); each pass's p99 is
 // printed too. Prints p50 / p99 / max of the total and of each stage (Table II's:
 // illumination, pixel classification, recognition and pose, tracking), the share of frames
-// searched in windows, and the robots found per frame.
+// searched in windows, and the robots found per frame. --ssl also turns each frame's detections
+// and tracker output into the league's detection and tracked packets and sends them to a socket
+// of this process on 127.0.0.1 (SslOutput's work, docs/ssl.md): stage `ssl`, and `to_udp_sent`
+// = total + ssl, the processing from the image to the tracked packet handed to the kernel.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <nlohmann/json.hpp>
+#include <sys/socket.h>
 
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/pipeline/vision_pipeline.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
+#include "soccer_vision/ssl/detection_packet.h"
+#include "soccer_vision/ssl/kicked_ball.h"
+#include "soccer_vision/ssl/tracked_packet.h"
+#include "soccer_vision/ssl/udp_sender.h"
 #include "tool_command_line.h"
 
 namespace sv = soccer_vision;
@@ -50,6 +62,7 @@ struct Options {
   std::string json;
   bool cold = false;
   int repeat = 1;
+  bool ssl = false;
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -65,6 +78,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--repeat", o.repeat, "passes, each with a fresh pipeline; per frame the fastest counts")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  app.add_flag("--ssl", o.ssl,
+               "also build each frame's SSL detection and tracked packets and send them to 127.0.0.1");
 }
 
 // A preset name is looked up in this source tree's presets; anything else is a path.
@@ -77,6 +92,34 @@ std::string presetPath(const std::string& name) {
 double ms(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
+
+// The --ssl packets' destination: a socket of this process on 127.0.0.1, drained between frames.
+class LoopbackSink {
+ public:
+  LoopbackSink() {
+    fd_ = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    if (fd_ < 0 || bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
+      throw std::runtime_error("--ssl: no socket on 127.0.0.1");
+    }
+    port_ = ntohs(a.sin_port);
+  }
+  ~LoopbackSink() { close(fd_); }
+  int port() const { return port_; }
+  void drain() {
+    char buffer[65536];
+    while (recv(fd_, buffer, sizeof buffer, MSG_DONTWAIT) > 0) {
+    }
+  }
+
+ private:
+  int fd_ = -1;
+  int port_ = 0;
+};
 
 }  // namespace
 
@@ -118,8 +161,16 @@ int main(int argc, char** argv) {
     pc.segmentation = model;
     pc.layout = layout;
     const double interval = 1.0 / scenario.fps;
-    const std::vector<std::string> stages = {"preprocessing", "classification", "recognition", "tracking",
-                                             "total"};
+    std::vector<std::string> stages = {"preprocessing", "classification", "recognition", "tracking", "total"};
+    if (o.ssl) stages.insert(stages.end(), {"ssl", "to_udp_sent"});
+    std::optional<LoopbackSink> sink;
+    std::optional<sv::ssl::UdpSender> sender;
+    if (o.ssl) {
+      sink.emplace();
+      sender.emplace("127.0.0.1", sink->port());
+    }
+    sv::ssl::TrackedPacketOptions tracked_options;
+    tracked_options.uuid = sv::ssl::randomUuid();
     std::map<std::string, std::vector<double>> t;
     for (const std::string& stage : stages) t[stage].assign(static_cast<std::size_t>(o.frames), 1e300);
     std::vector<double> pass_p99;
@@ -127,6 +178,7 @@ int main(int argc, char** argv) {
     cv::Mat delivered;
     for (int pass = 0; pass < o.repeat; ++pass) {
       sv::VisionPipeline pipeline({pc}, patterns, field);
+      sv::ssl::KickedBallEstimator kicks;
       std::vector<double> totals;
       windowed = robots = 0;
       for (int i = 0; i < o.frames; ++i) {
@@ -139,10 +191,30 @@ int main(int argc, char** argv) {
         const auto t0 = Clock::now();
         const sv::PipelineFrame f = pipeline.process(0, *image, i * interval);
         const double total = ms(t0, Clock::now());
+        double ssl_ms = 0;
+        if (sender) {
+          // SslOutput's work per frame: one detection packet and one tracked packet, sent.
+          const auto s0 = Clock::now();
+          const auto& kick = kicks.update(f.output);
+          const bool sent =
+              sender->send(sv::ssl::detectionPacket(f.detections, static_cast<std::uint32_t>(i), f.stamp)
+                               .SerializeAsString()) &&
+              sender->send(
+                  sv::ssl::trackedPacket(f.output, static_cast<std::uint32_t>(i), kick, tracked_options)
+                      .SerializeAsString());
+          ssl_ms = ms(s0, Clock::now());
+          if (!sent) throw std::runtime_error("--ssl: " + sender->lastError());
+          sink->drain();
+        }
         windowed += !f.global_search;
         robots += f.output.robots.size();
-        const double times[] = {f.times.preprocessing, f.times.classification, f.times.recognition,
-                                f.times.tracking, total};
+        const double times[] = {f.times.preprocessing,
+                                f.times.classification,
+                                f.times.recognition,
+                                f.times.tracking,
+                                total,
+                                ssl_ms,
+                                total + ssl_ms};
         for (std::size_t k = 0; k < stages.size(); ++k) {
           double& best = t[stages[k]][static_cast<std::size_t>(i)];
           best = std::min(best, times[k]);

@@ -9,6 +9,7 @@
 //   rosrun soccer_vision calibrate_colors --image A.png [--image B.png ...]
 //       --samples samples.yaml [--samples ...] --out table.svct [--preview preview.png]
 //       [--threshold-lab X] [--threshold-h DEG] [--bins H,S,V] [--v-margin N]
+//       [--generalize SIGMAS] [--spread L,AB]
 //       [--light normalized|as-captured]
 //
 // Images and samples files pair up in order; a single samples file applies to every image.
@@ -46,6 +47,7 @@ struct Options {
   std::string preview;
   sv::ColorTableParams params;
   sv::CalibrationLight light = sv::CalibrationLight::Normalized;
+  std::vector<double> spread;  // --spread L,AB
 };
 
 void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& light) {
@@ -67,6 +69,15 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
   app.add_option("--v-margin", o.params.v_margin, "V bins added below and above a class's samples")
       ->check(CLI::Range(0, 255))
       ->capture_default_str();
+  app.add_option(
+         "--generalize", o.params.generalize_sigmas,
+         "[sigmas] claim every cell within this Mahalanobis distance of a class's L*a*b* Gaussian; 0: off")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  app.add_option("--spread", o.spread, "[ΔE] L*,ab spread added to each class's Gaussian (default 6,5)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::Range(0.01, 100.0));
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
       ->capture_default_str();
@@ -79,6 +90,10 @@ std::string optionProblem(Options& o, const std::vector<int>& bins, const std::s
     o.params.h_bins = bins[0];
     o.params.s_bins = bins[1];
     o.params.v_bins = bins[2];
+  }
+  if (!o.spread.empty()) {
+    o.params.spread_l = o.spread[0];
+    o.params.spread_ab = o.spread[1];
   }
   o.light = light == "as-captured" ? sv::CalibrationLight::AsCaptured : sv::CalibrationLight::Normalized;
   if (o.samples.size() != 1 && o.samples.size() != o.images.size())

@@ -9,6 +9,14 @@
 //       --points field_points.yaml --out camera_pose.yaml
 //       [--camera-id N] [--child-frame-id camera_N_optical] [--max-rms PX]
 //
+// With --image, from the field lines of that image (calibrate_field_lines.h), started from
+// 4 clicked corners or the --points:
+//
+//   rosrun soccer_vision calibrate_field --image IMG --field div_b [--camera-info C.yaml]
+//       [--estimate-intrinsics [--principal-point] [--fix-focal-length]] (--corners u,v,... | --points
+//       P.yaml)
+//       --out camera_pose.yaml [--out-camera-info C.yaml]   (--max-rms default 1 px)
+//
 // Exit status: 0 on success; 2 for bad arguments, unreadable or invalid files, degenerate
 // correspondences (< 4, collinear, non-finite) or an unwritable output; 3 when the RMS
 // reprojection error exceeds --max-rms (default 2 px: wrong correspondences); the pose is
@@ -20,6 +28,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "calibrate_field_lines.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
@@ -33,21 +42,44 @@ namespace {
 struct Options {
   std::string camera_info, points, out, child_frame_id;
   std::optional<int> camera_id;
-  double max_rms = 2.0;
+  std::optional<double> max_rms;          // default 2 px (points), 1 px (field lines)
+  sv::FieldLineCalibrationOptions lines;  // the --image mode
 };
 
 void addOptions(CLI::App& app, Options& o) {
-  app.add_option("--camera-info", o.camera_info, "the camera's intrinsics (camera_info YAML)")->required();
-  app.add_option("--points", o.points, "pixel <-> field correspondences (field points YAML)")->required();
+  app.add_option("--camera-info", o.camera_info,
+                 "the camera's intrinsics (camera_info YAML); with --image: the starting intrinsics");
+  app.add_option("--points", o.points,
+                 "pixel <-> field correspondences (field points YAML); with --image: instead of --corners");
   app.add_option("--out", o.out, "the camera pose to write (YAML)")->required();
   app.add_option_function<int>(
          "--camera-id", [&o](const int& id) { o.camera_id = id; },
          "camera id (names the child frame camera_<id>_optical)")
       ->check(CLI::Range(0, 255));
   app.add_option("--child-frame-id", o.child_frame_id, "tf child frame of the pose");
-  app.add_option("--max-rms", o.max_rms, "[px] largest reprojection RMS accepted (exit status 3 beyond)")
-      ->check(CLI::Range(0.001, 1000.0))
-      ->capture_default_str();
+  app.add_option_function<double>(
+         "--max-rms", [&o](const double& px) { o.max_rms = px; },
+         "[px] largest reprojection RMS accepted, exit status 3 beyond (default 2; 1 with --image)")
+      ->check(CLI::Range(0.001, 1000.0));
+  auto* image = app.add_option("--image", o.lines.image,
+                               "calibrate from the field lines of this image (docs/calibration.md)");
+  app.add_option("--field", o.lines.field, "field geometry: div_b, div_a or a YAML file (with --image)")
+      ->needs(image);
+  app.add_option("--corners", o.lines.corners,
+                 "u1,v1,u2,v2,u3,v3,u4,v4: the 4 clicked field corners (with --image)")
+      ->delimiter(',')
+      ->expected(8)
+      ->needs(image);
+  auto* estimate = app.add_flag("--estimate-intrinsics", o.lines.estimate_intrinsics,
+                                "also estimate focal length and distortion (with --image)")
+                       ->needs(image);
+  app.add_flag("--principal-point", o.lines.principal_point, "also estimate the principal point")
+      ->needs(estimate);
+  app.add_flag("--fix-focal-length", o.lines.fix_focal_length, "keep the focal length of --camera-info")
+      ->needs(estimate);
+  app.add_option("--out-camera-info", o.lines.out_camera_info,
+                 "write the estimated intrinsics (camera_info YAML)")
+      ->needs(image);
 }
 
 int run(const Options& o) {
@@ -73,10 +105,10 @@ int run(const Options& o) {
               solution.max_px, solution.iterations);
   std::printf("camera centre in field: (%.4f, %.4f, %.4f) m, rotation xyzw (%.6f, %.6f, %.6f, %.6f)\n", t.x(),
               t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-  if (solution.rms_px > o.max_rms) {
+  if (solution.rms_px > o.max_rms.value_or(2.0)) {
     std::cerr << "calibrate_field: RMS reprojection error " << solution.rms_px << " px exceeds --max-rms "
-              << o.max_rms << " px: check the correspondences (" << o.points << ") and the intrinsics ("
-              << o.camera_info << "); not writing " << o.out << "\n";
+              << o.max_rms.value_or(2.0) << " px: check the correspondences (" << o.points
+              << ") and the intrinsics (" << o.camera_info << "); not writing " << o.out << "\n";
     return 3;
   }
   sv::CameraPoseFile file;
@@ -100,9 +132,20 @@ int main(int argc, char** argv) {
       "calibrate_field"};
   addOptions(app, o);
   if (const auto status = sv::parseCommandLine(app, argc, argv)) return *status;
+  if (o.lines.image.empty() && (o.camera_info.empty() || o.points.empty()))
+    return sv::usageError(app, "--camera-info and --points are required (or --image: from the field lines)");
   if (o.child_frame_id.empty() && o.camera_id)
     o.child_frame_id = "camera_" + std::to_string(*o.camera_id) + "_optical";
   try {
+    if (!o.lines.image.empty()) {
+      o.lines.camera_info = o.camera_info;
+      o.lines.points = o.points;
+      o.lines.out = o.out;
+      o.lines.camera_id = o.camera_id;
+      o.lines.child_frame_id = o.child_frame_id;
+      o.lines.max_rms = o.max_rms.value_or(1.0);
+      return sv::calibrateFromFieldLines(o.lines);
+    }
     return run(o);
   } catch (const std::exception& e) {
     std::cerr << "calibrate_field: " << e.what() << "\n";

@@ -1,20 +1,31 @@
 // make_scenario: renders a scenario preset into a rosbag (image_raw, camera_info and the
 // ground-truth topics of each camera, with capture stamps) and writes the exchange files
-// (docs/formats.md) next to it: truth.jsonl, samples.yaml (colour samples on the first
-// frame), field_points.yaml, plus camera_info.yaml and first_frame.png for calibration,
+// (docs/formats.md) next to it: truth.jsonl, samples.yaml (colour samples on the
+// calibration frame, calibration_frame.png), field_points.yaml, plus camera_info.yaml and
+// first_frame.png for calibration,
 // and samples_camera_<n>_frame_<i>.yaml for the frames a table is calibrated on (as
 // calibrate_synthetic: 24 frames 0.375 s apart, those within the recording; polygons where
 // the frame shows the objects, i.e. mid-exposure for a blurred frame).
 //
 //   rosrun soccer_vision make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag
 //       [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]
-//       [--compression lz4|bz2|none]
+//       [--compression lz4|bz2|none] [--sample-inset PX] [--click-noise PX]
+//       [--calibration-frame auto|N]
+//
+// --sample-inset PX: the calibration frame's marker and ball polygons (samples.yaml) PX
+// pixels inside their outlines, as a user draws them; --click-noise PX: field_points.yaml
+// moved by Gaussian noise of PX pixels per axis, as a user clicks; --calibration-frame
+// auto|N: the frame samples.yaml and calibration_frame.png show (default 0; auto: the first
+// frame showing every marker colour (robots, ball) the camera shows in the recording, as a user picks
+// one, else the first showing the most of them; printed as "camera <n>: calibration frame:
+// <i>"). The held-out protocol of docs/evaluation.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,6 +43,7 @@
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
+#include "soccer_vision/simulation/scenario_camera.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
 #include "tool_command_line.h"
 
@@ -48,12 +60,15 @@ struct Options {
   long long seed = -1;
   double start = 1700000000.0;
   std::string compression = "lz4";
+  double sample_inset = 0, click_noise = 0;  // px
+  std::string calibration_frame = "0";       // "auto" or a frame index
 };
 
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("--preset", o.preset, "scenario preset: a name of config/scenarios/ or a YAML file")
       ->required();
-  app.add_option("--frames", o.frames, "frames to render")->required()->check(CLI::Range(1, 10000000));
+  // An hour at 60 Hz is far more than any test needs; more only fills the disk.
+  app.add_option("--frames", o.frames, "frames to render")->required()->check(CLI::Range(1, 216000));
   app.add_option("--out", o.out, "the bag to write; the exchange files go beside it")->required();
   app.add_option("--cameras", o.cameras, "synthetic cameras to record: 0 and/or 1")
       ->delimiter(',')
@@ -66,6 +81,35 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--compression", o.compression, "bag chunk compression")
       ->check(CLI::IsMember(std::vector<std::string>{"lz4", "bz2", "none"}))
       ->capture_default_str();
+  app.add_option("--sample-inset", o.sample_inset, "[px] sample polygons drawn this far inside each marker")
+      ->check(CLI::Range(0.0, 20.0));
+  app.add_option("--click-noise", o.click_noise, "[px] random error of each clicked field point")
+      ->check(CLI::Range(0.0, 20.0));
+  app.add_option("--calibration-frame", o.calibration_frame,
+                 "frame of samples.yaml and calibration_frame.png: an index, or auto (the first frame "
+                 "showing every marker colour (robots and ball) the camera shows during the recording)")
+      ->check(CLI::IsMember(std::vector<std::string>{"auto"}) | CLI::NonNegativeNumber)
+      ->capture_default_str();
+}
+
+// The marker colours of the robots and balls this camera shows in a scene.
+void addMarkerColorsInView(const sv::SceneState& scene, const sv::FieldRenderer& renderer,
+                           const sv::PatternSet& patterns, std::set<sv::ColorClass>& colors) {
+  for (const auto& r : scene.robots) {
+    if (!renderer.robotVisible(r)) continue;
+    for (const auto& m : patterns.markers(r.team, r.id)) colors.insert(m.color);
+  }
+  for (const auto& b : scene.balls) {
+    if (renderer.ballVisible(b)) colors.insert(sv::ColorClass::Orange);
+  }
+}
+
+// How many of `colors` the samples have polygons for.
+std::size_t colorsShown(const sv::ColorSamples& samples, const std::set<sv::ColorClass>& colors) {
+  return std::count_if(colors.begin(), colors.end(), [&](sv::ColorClass c) {
+    const auto it = samples.find(c);
+    return it != samples.end() && !it->second.empty();
+  });
 }
 
 std::string directoryOf(const std::string& path) {
@@ -86,12 +130,27 @@ struct CameraChannel {
   std::string ns;
   std::unique_ptr<sv::FieldRenderer> renderer;
   sensor_msgs::CameraInfo info;
+  // The user's calibration frame. With "auto": the marker colours the camera shows during
+  // the recording, and the earliest frame showing the most of them so far.
+  bool calibration_written = false;
+  std::set<sv::ColorClass> colors_in_view;
+  std::size_t best_shown = 0;
+  int best_frame = -1;
+  sv::ColorSamples best_samples;
+  cv::Mat best_bgr;
 };
 
 int run(const Options& o) {
+  if (o.calibration_frame != "auto") {
+    const double n = std::stod(o.calibration_frame);
+    if (n != std::floor(n) || n >= o.frames)
+      throw std::invalid_argument("--calibration-frame must be auto or a frame index below --frames (" +
+                                  std::to_string(o.frames) + "), got " + o.calibration_frame);
+  }
   sv::ScenarioConfig scenario = sv::loadScenario(sv::resolveScenarioPath(o.preset));
-  if (o.width > 0) scenario.width = o.width;
-  if (o.height > 0) scenario.height = o.height;
+  if (o.width != 0) scenario.width = o.width;
+  if (o.height != 0) scenario.height = o.height;
+  sv::checkScenario(scenario, o.preset + " with --width/--height");
   if (o.seed >= 0) scenario.seed = static_cast<std::uint64_t>(o.seed);
   const sv::FieldGeometry field = sv::fieldGeometryByName(scenario.field);
   const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
@@ -99,11 +158,28 @@ int run(const Options& o) {
 
   std::vector<CameraChannel> channels;
   for (int id : o.cameras) {
-    const auto camera = sv::CameraModel::defaultCamera(field, id, scenario.width, scenario.height);
+    const auto camera = sv::scenarioCamera(field, id, scenario);
     const std::string frame = "camera_" + std::to_string(id) + "_optical";
-    channels.push_back({id, "/camera_" + std::to_string(id),
+    channels.push_back({id,
+                        "/camera_" + std::to_string(id),
                         std::make_unique<sv::FieldRenderer>(camera, field, patterns, scenario),
-                        sv::toCameraInfo(camera, frame)});
+                        sv::toCameraInfo(camera, frame),
+                        false,
+                        {},
+                        0,
+                        -1,
+                        {},
+                        {}});
+  }
+  if (o.calibration_frame == "auto") {
+    // The game once through without rendering (deterministic for the seed): which colours
+    // each camera will show, so the calibration frame can be one that shows them all.
+    sv::GameSimulator preview(scenario, field, patterns.maxRobotsPerTeam());
+    for (int i = 0; i < o.frames; ++i) {
+      for (auto& ch : channels)
+        addMarkerColorsInView(preview.state(), *ch.renderer, patterns, ch.colors_in_view);
+      preview.step(1.0 / scenario.fps);
+    }
   }
 
   rosbag::Bag bag(o.out, rosbag::bagmode::Write);
@@ -172,16 +248,54 @@ int run(const Options& o) {
             dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
             sv::toYaml(samples));
       }
+      const bool first = &ch == &channels.front();
+      if (!ch.calibration_written) {
+        // The frame a user calibrates the colours on: polygons as drawn on it.
+        sv::SampleOptions drawn;
+        drawn.inset_px = o.sample_inset;
+        sv::ColorSamples samples =
+            sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns, drawn);
+        cv::Mat bgr = rendered.image;
+        if (bayer) cv::cvtColor(rendered.image, bgr, sv::bayerToBgrCode(img.encoding));
+        const bool automatic = o.calibration_frame == "auto";
+        if (automatic) {
+          const std::size_t shown = colorsShown(samples, ch.colors_in_view);
+          if (ch.best_frame < 0 || shown > ch.best_shown) {
+            ch.best_shown = shown;
+            ch.best_frame = i;
+            ch.best_samples = samples;
+            ch.best_bgr = bgr.clone();
+          }
+        }
+        const bool all_shown = automatic && ch.best_shown == ch.colors_in_view.size();
+        if (automatic ? all_shown || i == o.frames - 1 : i == std::stoi(o.calibration_frame)) {
+          const int chosen = automatic ? ch.best_frame : i;
+          if (automatic) {
+            samples = ch.best_samples;
+            bgr = ch.best_bgr;
+          }
+          for (const auto& f : cameraFileNames(dir, "samples", ".yaml", ch.id, first))
+            sv::writeTextFile(f, sv::toYaml(samples));
+          for (const auto& f : cameraFileNames(dir, "calibration_frame", ".png", ch.id, first)) {
+            if (!cv::imwrite(f, bgr)) throw std::runtime_error(f + ": cannot write image");
+          }
+          std::printf("camera %d: calibration frame: %d", ch.id, chosen);
+          if (automatic)
+            std::printf(" (shows %zu of the %zu marker colours in view)", ch.best_shown,
+                        ch.colors_in_view.size());
+          std::printf("\n");
+          ch.calibration_written = true;
+          ch.best_samples.clear();
+          ch.best_bgr.release();
+        }
+      }
       if (i == 0) {
-        const bool first = &ch == &channels.front();
-        const auto samples = sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns);
-        const auto points = sv::fieldCorrespondences(ch.renderer->camera(), field);
+        auto points = sv::fieldCorrespondences(ch.renderer->camera(), field);
+        if (o.click_noise > 0) sv::addClickNoise(points, o.click_noise, scenario.seed + 31 * ch.id);
         cv::Mat bgr = rendered.image;
         if (bayer) {
           cv::cvtColor(rendered.image, bgr, sv::bayerToBgrCode(img.encoding));
         }
-        for (const auto& f : cameraFileNames(dir, "samples", ".yaml", ch.id, first))
-          sv::writeTextFile(f, sv::toYaml(samples));
         for (const auto& f : cameraFileNames(dir, "field_points", ".yaml", ch.id, first))
           sv::writeTextFile(f, sv::toYaml(points));
         for (const auto& f : cameraFileNames(dir, "first_frame", ".png", ch.id, first)) {
@@ -206,8 +320,8 @@ int run(const Options& o) {
       channels.front().renderer->encoding().c_str(), scenario.fps, scenario.name.c_str(),
       patterns.name.c_str(), scenario.blue_robots, scenario.yellow_robots);
   std::printf(
-      "and %s/{truth.jsonl, samples.yaml, field_points.yaml, camera_info.yaml, first_frame.png, "
-      "samples_camera_<n>_frame_<i>.yaml}\n",
+      "and %s/{truth.jsonl, samples.yaml, calibration_frame.png, field_points.yaml, camera_info.yaml, "
+      "first_frame.png, samples_camera_<n>_frame_<i>.yaml}\n",
       dir.c_str());
   return 0;
 }

@@ -35,7 +35,7 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   SearchPlan plan;
   plan.stamp = stamp + interval();
   if (params_.search_windows && camera) {
-    plan.windows = searchWindows(tracker.output(plan.stamp), *camera, interval(), params_.windows);
+    plan.windows = searchWindows(tracker.predictions(plan.stamp), *camera, interval(), params_.windows);
   }
   // The policy sees every frame, so that its period and its expected targets stay current.
   plan.reason = policy_.decide(plan.windows, tracker.numRobotTracks() + tracker.numBallTracks());

@@ -183,7 +183,14 @@ TEST(CameraPoseSolver, RejectsDegenerateInputWithClearMessages) {
   EXPECT_NE(message(line, k).find("collinear"), std::string::npos);
   auto same = points;
   for (auto& p : same) p = points.front();
-  EXPECT_NE(message(same, k).find("collinear"), std::string::npos);
+  EXPECT_NE(message(same, k).find("must be distinct"), std::string::npos);
+  // 4 points of which only 3 are distinct once passed.
+  const auto tilted = tiltedCamera();
+  auto three = pointsAtPixels(tilted, {{100, 80, 0}, {950, 120, 0}, {900, 700, 0}, {60, 650, 0}});
+  three[3] = three[1];
+  EXPECT_NE(message(three, tilted.intrinsics()).find("correspondences 1 and 3 have the same field point"),
+            std::string::npos)
+      << message(three, tilted.intrinsics());
   auto nan = points;
   nan[2].pixel.x() = std::nan("");
   EXPECT_NE(message(nan, k).find("non-finite"), std::string::npos);
@@ -293,4 +300,9 @@ TEST(CameraInfoYaml, ReadsTheStandardCalibrationFile) {
   std::string no_k = text;
   no_k.replace(no_k.find("[400, 0, 319.75"), 4, "[0");
   EXPECT_NE(error(no_k).find("focal"), std::string::npos);
+  // Sizes that would allocate gigabytes are refused up front.
+  std::string huge = text;
+  huge.replace(huge.find("image_width: 640"), 16, "image_width: 100000");
+  EXPECT_NE(error(huge).find("ci.yaml: image size 100000x512 outside 1..16384"), std::string::npos)
+      << error(huge);
 }

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -88,4 +89,58 @@ TEST(ExchangeFormats, FieldCorrespondencesRoundTripAndIgnoreUnknownKeys) {
   EXPECT_THROW(parseFieldCorrespondences("points:\n  - {pixel: [1], field: [0, 0, 0]}\n", "x"),
                std::runtime_error);
   EXPECT_THROW(parseFieldCorrespondences("pts: []\n", "x"), std::runtime_error);
+}
+
+// The message of what `parse` throws (empty when it does not throw).
+template <typename Parse>
+std::string errorOf(Parse parse) {
+  try {
+    parse();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ExchangeFormats, ColorSamplesWithNanHugeOrDegeneratePolygonsAreRefusedNamingFileAndPolygon) {
+  const auto parse = [](const std::string& text) {
+    return errorOf([&] { parseColorSamples(text, "s.yaml"); });
+  };
+  std::string e = parse("pink:\n  - [[0, 0], [5, 0], [5, 5]]\n  - [[0, 0], [.nan, 0], [5, 5]]\n");
+  EXPECT_NE(e.find("s.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("finite"), std::string::npos) << e;
+  e = parse("pink:\n  - [[0, 0], [.inf, 0], [5, 5]]\n");
+  EXPECT_NE(e.find("finite"), std::string::npos) << e;
+  e = parse("blue:\n  - [[0, 0], [5, 0], [5, 5]]\n  - [[0, 0], [2e6, 0], [5, 5]]\n");
+  EXPECT_NE(e.find("'blue' polygon 1 vertex 1"), std::string::npos) << e;
+  e = parse("green:\n  - [[0, 0], [5, 5], [10, 10]]\n");  // on one line
+  EXPECT_NE(e.find("'green' polygon 0 has no area"), std::string::npos) << e;
+  e = parse("green:\n  - [[1, 1], [1, 1], [1, 1], [1, 1]]\n");
+  EXPECT_NE(e.find("no area"), std::string::npos) << e;
+
+  std::string many = "pink:\n  - [";
+  for (std::size_t i = 0; i <= kMaxPolygonVertices; ++i) {
+    const double a = 2 * M_PI * i / (kMaxPolygonVertices + 1);
+    many += (i ? ", [" : "[") + std::to_string(100 + 50 * std::cos(a)) + ", " +
+            std::to_string(100 + 50 * std::sin(a)) + "]";
+  }
+  many += "]\n";
+  e = parse(many);
+  EXPECT_NE(e.find(std::to_string(kMaxPolygonVertices + 1) + " vertices"), std::string::npos) << e;
+
+  ColorSamples too_many;
+  too_many[ColorClass::Pink].assign(kMaxSamplePolygons + 1, Polygon{{0, 0}, {1, 0}, {1, 1}});
+  e = errorOf([&] { checkColorSamples(too_many); });
+  EXPECT_NE(e.find("more than " + std::to_string(kMaxSamplePolygons)), std::string::npos) << e;
+  too_many[ColorClass::Pink].resize(kMaxSamplePolygons);
+  EXPECT_EQ(errorOf([&] { checkColorSamples(too_many); }), "");
+}
+
+TEST(ExchangeFormats, FieldCorrespondencesWithNanAreRefusedNamingThePoint) {
+  const std::string e = errorOf([] {
+    parseFieldCorrespondences(
+        "points:\n  - {pixel: [1, 2], field: [0, 0, 0]}\n  - {pixel: [1, .nan], field: [0, 0, 0]}\n",
+        "f.yaml");
+  });
+  EXPECT_NE(e.find("f.yaml: point 1: pixel must be finite"), std::string::npos) << e;
 }

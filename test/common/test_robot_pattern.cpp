@@ -1,4 +1,7 @@
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -95,4 +98,37 @@ TEST(Patterns, BadFilesAreRejectedWithAClearMessage) {
       std::string::npos);
   EXPECT_NE(error("team_marker: {shape: star, x: 0, y: 0}\n").find("'disc' or 'rect'"), std::string::npos);
   EXPECT_THROW(loadPatternSet("/nonexistent/pattern.yaml"), std::runtime_error);
+}
+
+// Files that once loaded as something else: NaN geometry, a robot without height, typos
+// that made a team-only pattern, the ball's orange as an id colour.
+TEST(Patterns, NanGeometryTyposAndOrangeIdsAreRefusedNamingTheKey) {
+  const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
+  const std::string slot = "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\n";
+  auto error = [](const std::string& text) {
+    try {
+      parsePatternSet(text, "test.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"team_marker: {shape: disc, x: .nan, y: 0, radius: 0.025}\n", "'x' must be a finite number"},
+      {"team_marker: {shape: disc, x: 0, y: 0, radius: .inf}\n", "'radius' must be a finite number"},
+      {"robot_height: 0\n" + team, "'robot_height' must be positive"},
+      {"robot_height: -0.15\n" + team, "'robot_height' must be positive"},
+      {"robot_radius: .nan\n" + team, "'robot_radius' must be a finite number"},
+      {team + "slot: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink]]\n", "unknown key 'slot'"},
+      {team + slot + "id: [[pink]]\n", "unknown key 'id'"},
+      {"team_marker: {shape: disc, x: 0, y: 0, radius: 0.025, raduis: 0.02}\n", "unknown key 'raduis'"},
+      {team + slot + "ids: [[orange]]\n", "'orange' is not an id colour"},
+      {team + slot + "ids: [[pink], [blue]]\n", "id 1: 'blue' is not an id colour"},
+  };
+  for (const auto& [text, message] : cases) {
+    const std::string e = error(text);
+    EXPECT_NE(e.find("test.yaml"), std::string::npos) << text;
+    EXPECT_NE(e.find(message), std::string::npos) << text << " -> " << e;
+  }
+  EXPECT_EQ(error(team + slot + "ids: [[pink], [green]]\n"), "");
 }

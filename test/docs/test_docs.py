@@ -186,8 +186,9 @@ class NodeletDocumentation(unittest.TestCase):
             if call["name"] in static:
                 self.check_default(spec, static[call["name"]], call)
 
-        self.assertTrue("dynamic_reconfigure::Server<%sConfig>" % spec["name"] in code,
-                      "%s has no reconfigure server for cfg/%s.cfg" % (spec["source"], spec["name"]))
+        if spec["has_cfg"]:
+            self.assertTrue("dynamic_reconfigure::Server<%sConfig>" % spec["name"] in code,
+                            "%s has no reconfigure server for cfg/%s.cfg" % (spec["source"], spec["name"]))
         for n in dynamic:
             self.assertTrue(re.search(r"\b(?:config|c)\.%s\b" % n, code),
                             "cfg/%s.cfg documents %s, which %s never uses" % (spec["name"], n, spec["source"]))
@@ -337,8 +338,8 @@ class JUnitResult(unittest.TextTestResult):
             self._record(subtest, kind, self._exc_info_to_string(err, test))
 
 
-def write_junit(result, path):
-    suite = ET.Element("testsuite", name="test_docs", tests=str(len(result.cases)),
+def write_junit(result, path, suite_name):
+    suite = ET.Element("testsuite", name=suite_name, tests=str(len(result.cases)),
                        failures=str(sum(k == "failure" for _, _, k, _ in result.cases)),
                        errors=str(sum(k == "error" for _, _, k, _ in result.cases)))
     for test, seconds, kind, message in result.cases:
@@ -349,13 +350,16 @@ def write_junit(result, path):
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
 
 
-def main(argv):
+def main(argv, module=None):
+    """Runs the tests of `module` (this one by default); --gtest_output=xml:FILE writes a JUnit
+    report, as the gtest executables do (scripts/test reads them all the same way)."""
     xml = next((a.split("=", 1)[1].removeprefix("xml:") for a in argv if a.startswith("--gtest_output=")), None)
-    tests = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
+    module = module or sys.modules[__name__]
+    tests = unittest.defaultTestLoader.loadTestsFromModule(module)
     result = unittest.TextTestRunner(resultclass=JUnitResult, verbosity=2).run(tests)
     if xml:
         pathlib.Path(xml).parent.mkdir(parents=True, exist_ok=True)
-        write_junit(result, xml)
+        write_junit(result, xml, pathlib.Path(module.__file__).stem)
     return 0 if result.wasSuccessful() else 1
 
 

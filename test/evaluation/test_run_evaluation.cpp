@@ -315,4 +315,15 @@ TEST(VisionPipeline, RefusesBadSetups) {
   VisionPipeline ok({c}, r.patterns, FieldGeometry{});
   EXPECT_THROW(ok.process(7, r.frames[0], 1.0), std::invalid_argument);
   EXPECT_THROW(ok.process(0, cv::Mat(10, 10, CV_8UC1), 1.0), std::invalid_argument);
+  // A table calibrated at 1280x1024 for a 640x512 camera: refused, naming both sizes.
+  PipelineCamera other_size = c;
+  other_size.model = CameraModel::defaultCamera(FieldGeometry{}, 0, 640, 512);
+  try {
+    VisionPipeline({other_size}, r.patterns, FieldGeometry{});
+    ADD_FAILURE() << "a table of another resolution must be refused";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("40x32 blocks of 32 px, 640x512 frames have 20x16"),
+              std::string::npos)
+        << e.what();
+  }
 }

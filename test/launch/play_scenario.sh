@@ -14,5 +14,26 @@ rosrun soccer_vision calibrate_field --camera-info "$dir/camera_info.yaml" --poi
   --out "$dir/camera_pose.partial.yaml"
 mv "$dir/camera_pose.partial.yaml" "$dir/camera_pose.yaml"
 rosrun soccer_vision calibrate_synthetic --scenario "$preset" --camera 0 --out "$dir/table.svct"
-sleep 2  # the nodelets pick the files up
-exec rosbag play --quiet "$dir/scenario.bag"
+# The Segmentation picks the table up within a second or so, later on a loaded machine:
+# play once its diagnostics name a table (at most 60 s), so no frame meets a nodelet
+# without one.
+/usr/bin/python3 - <<'PY'
+import time
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+rospy.init_node("play_scenario_wait", anonymous=True)
+deadline = time.monotonic() + 60
+while not rospy.is_shutdown() and time.monotonic() < deadline:
+    try:
+        msg = rospy.wait_for_message("/diagnostics", DiagnosticArray, timeout=5)
+    except rospy.ROSException:
+        continue
+    tables = [v.value for s in msg.status if "segmentation" in s.name for v in s.values if v.key == "colour table"]
+    if any(t != "none" for t in tables):
+        break
+else:
+    rospy.logwarn("play_scenario: no colour table loaded after 60 s; playing anyway")
+PY
+sleep 1  # the tracker's camera pose and the subscriptions settle
+# --delay: every subscriber (vision and test) connects to every topic before the first frame.
+exec rosbag play --quiet --delay 1 "$dir/scenario.bag"

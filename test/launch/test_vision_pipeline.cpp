@@ -155,16 +155,39 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
   }
   EXPECT_EQ(foreign, 0u) << "robots messages whose stamp is no image's";
 
+  // Scored: the frames whose robot and ball truth this test both received. The bag has both
+  // for every frame; a missing one is a subscription that connected a few frames late (each
+  // topic connects on its own), not a frame without a ball.
   Score score;
   const BallPoseArray no_balls;
+  std::size_t without_ball_truth = 0;
   for (const auto& [stamp, msg] : rec.robots) {
     const auto truth = rec.truth_robots.find(stamp);
-    if (truth == rec.truth_robots.end()) continue;
     const auto tb = rec.truth_balls.find(stamp);
+    if (truth == rec.truth_robots.end()) continue;
+    if (tb == rec.truth_balls.end()) {
+      ++without_ball_truth;
+      continue;
+    }
     const auto b = rec.balls.find(stamp);
-    score.add(scoreFrame(toFrameRecord(*truth->second, tb != rec.truth_balls.end() ? *tb->second : no_balls),
-                         toFrameRecord(*msg, b != rec.balls.end() ? *b->second : no_balls)));
+    const FrameRecord truth_frame = toFrameRecord(*truth->second, *tb->second);
+    const FrameRecord result_frame = toFrameRecord(*msg, b != rec.balls.end() ? *b->second : no_balls);
+    const Score frame = scoreFrame(truth_frame, result_frame);
+    // A wrong ball says where and when, so that a failure can be understood from the log.
+    if (frame.false_balls > 0 && score.false_balls < 20) {
+      const BallRecord& r = result_frame.balls.front();
+      std::printf("[ false ball ] stamp %.4f (frame %ld of the recording): reported (%.3f, %.3f) %s; truth:",
+                  stamp.toSec(), static_cast<long>(score.frames), r.x, r.y,
+                  r.visible.value_or(true) ? "measured" : "coasting");
+      for (const BallRecord& t : truth_frame.balls)
+        std::printf(" (%.3f, %.3f) %s", t.x, t.y, t.visible.value_or(true) ? "in view" : "out of view");
+      std::printf("\n");
+    }
+    score.add(frame);
   }
+  std::printf("[ vision pipeline ] %zu outputs with robot truth but without ball truth (not scored)\n",
+              without_ball_truth);
+  EXPECT_LE(without_ball_truth, 30u) << "the ball truth must come with the frames";
   std::printf(
       "[ vision pipeline ] %ld frames: robots detection %.3f %% (%ld/%ld), precision %.3f %%, identity "
       "errors "

@@ -13,6 +13,10 @@
 //     lazy debug/classification image shows the classes;
 //  3. ~calibrate without yellow samples swaps the table: yellow blobs disappear;
 //     a failing ~calibrate keeps the table;
+//     bad requests (NaN, huge, degenerate polygons, a class without cells, a save path
+//     outside the allowed directory) are refused with their reason; a costly request does
+//     not stop the blobs (it runs off the image queue); a request image (8x8, truncated)
+//     is the one used;
 //  4. dynamic_reconfigure color_table = a corrupt file keeps the table (blobs continue, still
 //     no yellow); color_table = the saved full table brings yellow back;
 //  5. /diagnostics report the table, the frame rate and the processing time;
@@ -208,11 +212,12 @@ class SegmentationTest : public ::testing::Test {
   }
 
   static soccer_vision::Calibrate::Response calibrate(const std::string& yaml, bool save,
-                                                      const std::string& path) {
+                                                      const std::string& path, bool replace = true) {
     soccer_vision::Calibrate srv;
     srv.request.samples_yaml = yaml;
     srv.request.save = save;
     srv.request.path = path;
+    srv.request.replace = replace;
     const std::string name = ros::names::resolve("segmentation/calibrate");
     EXPECT_TRUE(ros::service::waitForService(name, ros::Duration(20.0))) << name;
     EXPECT_TRUE(ros::service::call(name, srv)) << name;
@@ -406,9 +411,23 @@ void SegmentationTest::checkBlobs(const std::vector<soccer_vision::BlobArrayCons
 }
 
 TEST_F(SegmentationTest, CalibrateSwapsTable) {
-  // A table without yellow samples: no yellow blobs any more, blue ones stay.
+  // Samples without yellow, merged (replace: false): yellow keeps its cells of the current
+  // table, and its blobs stay.
   soccer_vision::Calibrate::Response res =
-      calibrate(sv::toYaml(samples(false)), true, dir_ + "/no_yellow.svct");
+      calibrate(sv::toYaml(samples(false)), true, dir_ + "/yellow_kept.svct", false);
+  ASSERT_TRUE(res.success) << res.message;
+  const sv::ColorTable kept_table = sv::ColorTable::load(dir_ + "/yellow_kept.svct");
+  const auto& kept = kept_table.statistics().classes[static_cast<int>(sv::ColorClass::Yellow)];
+  EXPECT_GT(kept.samples, 0u) << "yellow's statistics come from the previous table";
+  EXPECT_GT(kept.cells_assigned, 0u);
+  auto kept_arrays = collectBlobs(15);
+  ASSERT_GE(kept_arrays.size(), 15u);
+  int yellow_blobs = 0;
+  for (const auto& a : kept_arrays) yellow_blobs += countColor(*a, sv::ColorClass::Yellow);
+  EXPECT_GT(yellow_blobs, 0) << "yellow blobs must stay when yellow was not painted";
+
+  // The same samples with replace: a table without yellow, no yellow blobs any more, blue ones stay.
+  res = calibrate(sv::toYaml(samples(false)), true, dir_ + "/no_yellow.svct");
   ASSERT_TRUE(res.success) << res.message;
   EXPECT_EQ(sv::ColorTable::load(dir_ + "/no_yellow.svct")
                 .statistics()
@@ -431,12 +450,101 @@ TEST_F(SegmentationTest, CalibrateSwapsTable) {
     EXPECT_FALSE(res.message.empty());
     std::printf("[ calibrate failure ] %s\n", res.message.c_str());
   }
+  // The request's image, when given, is the frame calibrated on (the calibration UI's frozen
+  // frame): polygons beyond an 8x8 image select nothing of it; a truncated one is refused.
+  {
+    soccer_vision::Calibrate srv;
+    srv.request.samples_yaml = "blue:\n  - [[20, 20], [30, 20], [30, 30]]\n";
+    srv.request.image.width = srv.request.image.height = 8;
+    srv.request.image.encoding = "bgr8";
+    srv.request.image.step = 24;
+    srv.request.image.data.assign(24 * 8, 128);
+    ASSERT_TRUE(ros::service::call(ros::names::resolve("segmentation/calibrate"), srv));
+    EXPECT_FALSE(srv.response.success);
+    EXPECT_NE(srv.response.message.find("(8x8)"), std::string::npos) << srv.response.message;
+    srv.request.image.data.resize(24 * 7);
+    ASSERT_TRUE(ros::service::call(ros::names::resolve("segmentation/calibrate"), srv));
+    EXPECT_FALSE(srv.response.success);
+    EXPECT_NE(srv.response.message.find("truncated"), std::string::npos) << srv.response.message;
+  }
   // Save to a directory that does not exist: failure, nothing swapped.
   res = calibrate(sv::toYaml(samples()), true, dir_ + "/no/such/dir/t.svct");
   EXPECT_FALSE(res.success) << "saving to a missing directory must fail";
   arrays = collectBlobs(10);
   ASSERT_GE(arrays.size(), 10u) << "blobs continue after failed calibrations";
   for (const auto& a : arrays) EXPECT_EQ(countColor(*a, sv::ColorClass::Yellow), 0);
+}
+
+// Requests that once crashed or stalled the manager, or wrote anywhere: each refused with
+// its reason, the previous table (no yellow) stays, blobs continue.
+TEST_F(SegmentationTest, BadCalibrateRequestsAreRefusedWithTheirReason) {
+  std::string many = "pink:\n  - [";
+  for (std::size_t i = 0; i <= sv::kMaxPolygonVertices; ++i) {
+    const double a = 2 * M_PI * i / (sv::kMaxPolygonVertices + 1);
+    many += (i ? ", [" : "[") + std::to_string(600 + 50 * std::cos(a)) + ", " +
+            std::to_string(500 + 50 * std::sin(a)) + "]";
+  }
+  many += "]\n";
+  // Two classes sampled on the same pixels: the Bayes decisions give every cell to one.
+  sv::ColorSamples twins = samples();
+  twins[sv::ColorClass::Orange] = twins.at(sv::ColorClass::Pink);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"pink:\n  - [[600, 500], [.nan, 500], [610, 510]]\n", "finite"},
+      {"pink:\n  - [[600, 500], [1e300, 500], [610, 510]]\n", "finite pixel coordinate within"},
+      {many, "vertices, needs 3.."},
+      {"pink:\n  - [[600, 500], [605, 505], [610, 510]]\n", "no area"},
+      {sv::toYaml(twins), "has no cell for"},
+  };
+  for (const auto& [yaml, reason] : cases) {
+    const soccer_vision::Calibrate::Response res = calibrate(yaml, false, "");
+    EXPECT_FALSE(res.success) << reason;
+    EXPECT_NE(res.message.find(reason), std::string::npos) << res.message.substr(0, 300);
+    std::printf("[ calibrate refused ] %s\n", res.message.substr(0, 200).c_str());
+  }
+  // Saving: only inside the directory of color_table (dir_).
+  const std::string outside = "/tmp/soccer_vision_test_segmentation_outside.svct";
+  std::remove(outside.c_str());
+  for (const std::string& path : {outside, std::string("../outside.svct"), dir_ + "/../outside.svct"}) {
+    const soccer_vision::Calibrate::Response res = calibrate(sv::toYaml(samples()), true, path);
+    EXPECT_FALSE(res.success) << path;
+    EXPECT_TRUE(res.message.find("outside the allowed directory") != std::string::npos ||
+                res.message.find("'..' is not allowed") != std::string::npos)
+        << res.message;
+  }
+  struct stat st;
+  EXPECT_NE(stat(outside.c_str(), &st), 0) << "nothing may be written outside the allowed directory";
+  const auto arrays = collectBlobs(10);
+  ASSERT_GE(arrays.size(), 10u) << "blobs continue after refused calibrations";
+  for (const auto& a : arrays)
+    EXPECT_EQ(countColor(*a, sv::ColorClass::Yellow), 0) << "the previous table stays";
+}
+
+// ~calibrate runs off the image queue: a costly request (999 polygons over the whole frame,
+// then refused for a class off the image) does not stop the blobs meanwhile.
+TEST_F(SegmentationTest, CalibrationDoesNotStallTheFrames) {
+  std::string yaml = "pink:\n";
+  const std::string whole = "  - [[-1, -1], [" + std::to_string(width_) + ", -1], [" +
+                            std::to_string(width_) + ", " + std::to_string(height_) + "], [-1, " +
+                            std::to_string(height_) + "]]\n";
+  for (std::size_t i = 0; i + 1 < sv::kMaxSamplePolygons; ++i) yaml += whole;
+  yaml += "blue:\n  - [[-50, -50], [-40, -50], [-40, -40]]\n";
+  clearBlobs();
+  const ros::WallTime start = ros::WallTime::now();
+  const soccer_vision::Calibrate::Response res = calibrate(yaml, false, "");
+  const double seconds = (ros::WallTime::now() - start).toSec();
+  std::size_t during = 0;
+  {
+    std::lock_guard<std::mutex> l(rec_->mutex);
+    during = rec_->blobs.size();
+  }
+  EXPECT_FALSE(res.success);
+  EXPECT_NE(res.message.find("select no pixel"), std::string::npos) << res.message;
+  std::printf(
+      "[ calibrate off the frame path ] the request took %.2f s, %zu blob arrays meanwhile (%.1f Hz)\n",
+      seconds, during, during / seconds);
+  ASSERT_GT(seconds, 0.5) << "the request must be costly for this test to mean something";
+  // The camera runs at 30 Hz; half of that leaves room for a loaded machine.
+  EXPECT_GE(static_cast<double>(during), 15.0 * (seconds - 0.3));
 }
 
 TEST_F(SegmentationTest, CorruptColorTableKeepsPrevious) {
@@ -512,6 +620,8 @@ TEST_F(SegmentationTest, Diagnostics) {
   EXPECT_GT(mean_ms, 0.0);
   EXPECT_GE(std::stod(values["processing time max [ms]"]), mean_ms);
   EXPECT_GT(std::stod(values["regions per frame blue"]), 0.0);
+  EXPECT_GE(std::stoul(values["~calibrate requests refused"]), 12u)
+      << "the refused requests of the tests before";
   std::printf("[ diagnostics ] %s: %.1f Hz, %.2f ms mean, %.2f ms max per frame\n", found.message.c_str(),
               std::stod(values["frame rate [Hz]"]), mean_ms, std::stod(values["processing time max [ms]"]));
 }

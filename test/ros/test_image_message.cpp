@@ -46,4 +46,9 @@ TEST(ImageMessage, RefusesBayerMosaicsOfHalfQuads) {
   EXPECT_TRUE(imageMessageIsConsistent(image(5, 3, 15, 45), PixelLayout::Rgb));  // odd is fine for RGB
 }
 
+TEST(ImageMessage, RefusesSidesBeyondTheLargestImage) {
+  EXPECT_FALSE(imageMessageIsConsistent(image(16386, 2, 16386, 2 * 16386), PixelLayout::BayerRggb));
+  EXPECT_TRUE(imageMessageIsConsistent(image(16384, 2, 16384, 2 * 16384), PixelLayout::BayerRggb));
+}
+
 }  // namespace soccer_vision

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/ros/blob_conversions.h"
+#include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/field_markers.h"
 
@@ -147,4 +150,39 @@ TEST(FieldMarkers, FieldLinesGameObjectsAndStableIds) {
   EXPECT_EQ(cylinders, 2);
   EXPECT_EQ(arrows, 2);
   EXPECT_EQ(spheres, 1);
+}
+
+// NaN or Inf in K or D once gave 0 robots with OK diagnostics: every such camera_info is
+// refused with the field named, as are zero focal lengths and absurd sizes.
+TEST(CameraInfoConversions, NonFiniteZeroFocalAndHugeCameraInfoAreRefused) {
+  const soccer_vision::FieldGeometry field;
+  const sensor_msgs::CameraInfo good =
+      soccer_vision::toCameraInfo(soccer_vision::CameraModel::defaultCamera(field, 0), "camera_0");
+  EXPECT_NO_THROW(soccer_vision::intrinsicsFromCameraInfo(good));
+  const auto message = [](const sensor_msgs::CameraInfo& info) -> std::string {
+    try {
+      soccer_vision::intrinsicsFromCameraInfo(info);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  sensor_msgs::CameraInfo bad = good;
+  bad.K[0] = std::nan("");
+  EXPECT_NE(message(bad).find("focal length"), std::string::npos) << message(bad);
+  bad = good;
+  bad.K[4] = 0;
+  EXPECT_NE(message(bad).find("focal length"), std::string::npos) << message(bad);
+  bad = good;
+  bad.K[2] = INFINITY;
+  EXPECT_NE(message(bad).find("principal point"), std::string::npos) << message(bad);
+  bad = good;
+  bad.D[1] = std::nan("");
+  EXPECT_NE(message(bad).find("distortion coefficient 1"), std::string::npos) << message(bad);
+  bad = good;
+  bad.width = bad.height = 100000;
+  EXPECT_NE(message(bad).find("image size"), std::string::npos) << message(bad);
+  bad = good;
+  bad.width = 0;
+  EXPECT_NE(message(bad).find("image size 0x"), std::string::npos) << message(bad);
 }

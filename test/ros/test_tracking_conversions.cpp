@@ -100,4 +100,49 @@ TEST(TrackingConversions, BallsKeepOrderHeightAndVelocity) {
   EXPECT_EQ(msg.balls[1].header.stamp, header().stamp);
 }
 
+TEST(TrackingConversions, MessagesBackToTheTrackerOutputRoundTrip) {
+  TrackerOutput out;
+  TrackedRobot r;
+  r.team = Team::Yellow;
+  r.id = 7;
+  r.x = 1.25;
+  r.theta = 2.0;
+  r.heading_valid = true;
+  r.omega = 3.0;
+  r.confidence = 0.875;
+  r.camera_id = 1;
+  r.visible = true;
+  TrackedRobot headless;
+  headless.team = Team::Blue;
+  headless.id = 3;
+  out.robots = {r, headless};
+  TrackedBall primary, other;
+  primary.primary = true;
+  primary.x = 0.5;
+  primary.z = 0.3;
+  primary.vx = 4.0;
+  other.x = -3.0;
+  out.balls = {primary, other};
+  const TrackerOutput back =
+      fromTrackingMessages(toRobotPoseArray(out, header()), toBallPoseArray(out, header()));
+  EXPECT_DOUBLE_EQ(back.stamp, header().stamp.toSec());
+  ASSERT_EQ(back.robots.size(), 2u);
+  EXPECT_EQ(back.robots[0].team, Team::Yellow);
+  EXPECT_EQ(back.robots[0].id, 7);
+  EXPECT_DOUBLE_EQ(back.robots[0].x, 1.25);
+  EXPECT_TRUE(back.robots[0].heading_valid);
+  EXPECT_DOUBLE_EQ(back.robots[0].theta, 2.0);
+  EXPECT_DOUBLE_EQ(back.robots[0].omega, 3.0);
+  EXPECT_EQ(back.robots[0].camera_id, 1);
+  EXPECT_TRUE(back.robots[0].visible);
+  EXPECT_EQ(back.robots[1].team, Team::Blue);
+  EXPECT_FALSE(back.robots[1].heading_valid);  // NaN on the wire
+  ASSERT_EQ(back.balls.size(), 2u);
+  EXPECT_TRUE(back.balls[0].primary);
+  EXPECT_FALSE(back.balls[1].primary);
+  EXPECT_DOUBLE_EQ(back.balls[0].z, 0.3);
+  EXPECT_DOUBLE_EQ(back.balls[0].vx, 4.0);
+  EXPECT_DOUBLE_EQ(back.balls[1].x, -3.0);
+}
+
 }  // namespace soccer_vision

@@ -1,11 +1,14 @@
 // The paper's colour table (§III-A): colour-space conversions against OpenCV, the sample
 // thresholds, the naive Bayes decision on overlapping cells, hue wrap-around, the `.svct`
 // file format, and the reference classification of a rendered frame.
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -119,6 +122,22 @@ TEST(ColorSpace, GreyAndBlackConventions) {
   EXPECT_NEAR(bgrToLab(128, 128, 128).l, 116 * std::cbrt(0.2158605) - 16, 1e-4);
 }
 
+TEST(ColorSpace, HsvToBgrInvertsBgrToHsv) {
+  // Every 8-bit pixel on a coarse lattice comes back within rounding.
+  int worst = 0;
+  for (int b = 0; b < 256; b += 5) {
+    for (int g = 0; g < 256; g += 5) {
+      for (int r = 0; r < 256; r += 5) {
+        const auto back = hsvToBgr(bgrToHsv(b, g, r));
+        worst = std::max({worst, std::abs(back[0] - b), std::abs(back[1] - g), std::abs(back[2] - r)});
+      }
+    }
+  }
+  EXPECT_LE(worst, 1);
+  EXPECT_EQ(hsvToBgr({360.0 + 120.0, 1.0, 200.0}), (std::array<std::uint8_t, 3>{0, 200, 0}));  // wrapped hue
+  EXPECT_EQ(hsvToBgr({0.0, 2.0, 300.0}), (std::array<std::uint8_t, 3>{0, 0, 255}));            // clamped
+}
+
 TEST(ColorSpace, HueDistanceIsCircular) {
   EXPECT_DOUBLE_EQ(hueDistance(355, 5), 10);
   EXPECT_DOUBLE_EQ(hueDifference(5, 355), 10);
@@ -154,6 +173,7 @@ TEST(ColorTable, ThresholdsSelectExactlyTheSamplesTheyShould) {
   };
   ColorTableParams params;
   params.v_margin = 0;  // the paper's body: V ranges exactly as the valid samples span them
+  params.generalize_sigmas = 0;
   for (const auto& p : cluster) {
     ASSERT_LT(lab_distance(p), params.threshold_lab - 1);
     ASSERT_NEAR(hue(p), 30.0, 1e-3);
@@ -223,7 +243,9 @@ TEST(ColorTable, OverlappingCellGoesToTheNaiveBayesWinner) {
   params.threshold_lab = 100;
   params.threshold_h = 90;
   params.overrides.clear();
-  params.v_margin = 0;  // the paper's body: the cell of P is the only overlap
+  params.v_margin = 0;    // the paper's body: the cell of P is the only overlap
+  params.hs_closing = 0;  // the body of the samples alone
+  params.generalize_sigmas = 0;
   const ColorTable table = ColorTable::build({{ColorClass::Blue, a}, {ColorClass::SkyBlue, b}}, params);
 
   // By hand, from OpenCV's HSV: the cell of P and its centre.
@@ -305,7 +327,9 @@ TEST(ColorTable, RedWrapsAroundHueZero) {
 TEST(ColorTable, ClassifyUsesTheVOffsetAndClampsIt) {
   std::vector<cv::Vec3b> blue;
   for (int i = 0; i < 10; ++i) blue.emplace_back(200 + i % 3, 80, 20);
-  const ColorTable table = ColorTable::build({{ColorClass::Blue, blue}});
+  ColorTableParams paper;  // the samples' body alone: a darker blue lies outside it
+  paper.generalize_sigmas = 0;
+  const ColorTable table = ColorTable::build({{ColorClass::Blue, blue}}, paper);
   EXPECT_EQ(table.classify(201, 80, 20), ColorClass::Blue);
   // The same chromaticity, darker: only an offset brings it into the body.
   EXPECT_EQ(table.classify(150, 60, 15), ColorClass::None);
@@ -363,6 +387,54 @@ TEST(ColorTable, PolygonEdgesThroughPixelCentresAreHalfOpen) {
   };
   EXPECT_EQ(positions.at(ColorClass::Pink), expected(2, 5, 3, 4));
   EXPECT_EQ(positions.at(ColorClass::Orange), expected(6, 7, 3, 4));
+}
+
+// The per-row crossings give exactly the pixels the per-pixel even-odd test gives, for
+// concave, self-intersecting and many-vertex polygons partly outside the image.
+TEST(ColorTable, SamplePixelsEqualThePerPixelEvenOddRule) {
+  const auto inside = [](const Polygon& poly, double x, double y) {
+    bool in = false;
+    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+      const Eigen::Vector2d& a = poly[i];
+      const Eigen::Vector2d& b = poly[j];
+      if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
+    }
+    return in;
+  };
+  cv::RNG rng(17);
+  const cv::Size size(64, 48);
+  for (int trial = 0; trial < 50; ++trial) {
+    Polygon poly;
+    const int n = 3 + trial * 7;
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * M_PI * i / n, r = rng.uniform(2.0, 40.0);
+      // Every third polygon's vertices on pixel centres (edges through centres).
+      const double x = 32 + r * std::cos(a), y = 24 + r * std::sin(a);
+      poly.emplace_back(trial % 3 ? x : std::round(x), trial % 3 ? y : std::round(y));
+    }
+    if (trial % 5 == 0) std::swap(poly[0], poly[n / 2]);  // self-intersecting
+    std::vector<cv::Point> expected;
+    for (int v = 0; v < size.height; ++v) {
+      for (int u = 0; u < size.width; ++u)
+        if (inside(poly, u, v)) expected.emplace_back(u, v);
+    }
+    const auto positions = samplePixelPositions(size, {{ColorClass::Pink, {poly}}});
+    EXPECT_EQ(positions.at(ColorClass::Pink), expected) << "trial " << trial << ", " << n << " vertices";
+  }
+}
+
+// NaN vertices once became INT_MIN bounds and an out-of-bounds read: refused before any cast.
+TEST(ColorTable, SamplePolygonsWithNanOrHugeVerticesAreRefused) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const Polygon& bad :
+       {Polygon{{0, 0}, {nan, 0}, {5, 5}}, Polygon{{nan, nan}, {nan, nan}, {nan, nan}},
+        Polygon{{0, 0}, {inf, 0}, {5, 5}}, Polygon{{-1e300, -1e300}, {1e300, 0}, {0, 1e300}},
+        Polygon{{1, 1}, {2, 2}, {3, 3}}}) {
+    const ColorSamples samples{{ColorClass::Orange, {bad}}};
+    EXPECT_THROW(samplePixelPositions(cv::Size(32, 32), samples), std::invalid_argument);
+    EXPECT_THROW(collectSamplePixels(cv::Mat3b(32, 32), samples), std::invalid_argument);
+  }
 }
 
 // ------------------------------------------------------------------ file format
@@ -620,4 +692,94 @@ TEST(ColorTableOnRenderedFrames, ClassifiesMarkerInteriorsAndLeavesTheBackground
   ASSERT_GT(all, 1000);
   EXPECT_GE(interior_rate, 0.99);
   EXPECT_LE(background_rate, 0.0001);
+}
+
+// One frame's samples leave HS cells between the sampled ones empty: the closing gives them
+// to the class (within its Gaussian), and reaches no farther than hs_closing cells.
+TEST(ColorTable, ClosingInHsFillsTheCellsBetweenSamples) {
+  auto bgrFromHsv = [](float h, float s, float v) {  // h in degrees, s in [0, 1], v in 0..255
+    cv::Mat3f hsv(1, 1, cv::Vec3f(h, s, v / 255.0f)), bgr;
+    cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+    const cv::Vec3f c = bgr(0, 0);
+    return cv::Vec3b(cv::saturate_cast<uchar>(255 * c[0]), cv::saturate_cast<uchar>(255 * c[1]),
+                     cv::saturate_cast<uchar>(255 * c[2]));
+  };
+  ColorTableParams params;
+  params.overrides.clear();
+  params.v_margin = 0;
+  params.hs_closing = 1;
+  params.generalize_sigmas = 0;
+  // Hues 100° and 108° (cells 25 and 27 of 4°), the same S and V: cell 26 is a hole.
+  const std::vector<cv::Vec3b> pixels = {bgrFromHsv(100, 0.7, 180), bgrFromHsv(108, 0.7, 180)};
+  const ColorTable open = [&] {
+    ColorTableParams p = params;
+    p.hs_closing = 0;
+    return ColorTable::build({{ColorClass::Green, pixels}}, p);
+  }();
+  const ColorTable closed = ColorTable::build({{ColorClass::Green, pixels}}, params);
+  EXPECT_EQ(open.classifyHsv(104, 0.7, 180), ColorClass::None);
+  EXPECT_EQ(closed.classifyHsv(104, 0.7, 180), ColorClass::Green);
+  EXPECT_EQ(closed.classifyHsv(100, 0.7, 180), ColorClass::Green);
+  EXPECT_EQ(closed.classifyHsv(130, 0.7, 180), ColorClass::None);  // beyond the closing and the Gaussian
+  EXPECT_GT(closed.statistics().classes[static_cast<int>(ColorClass::Green)].cells_claimed,
+            open.statistics().classes[static_cast<int>(ColorClass::Green)].cells_claimed);
+}
+
+// One print's dozen pixels (a dot 2 px inside its edge, one frame) must still recognise
+// other prints of the same colour: slightly other hue, saturation and brightness, as
+// another sheet, another place under the lamps and the sensor's noise give them. The
+// generalised table claims them; the samples' body alone does not. The neighbouring
+// class and the carpet keep their colours.
+TEST(ColorTable, GeneralisationRecognisesOtherPrintsOfAFewSamples) {
+  auto print = [](double h, double s, double v, int n, unsigned seed) {
+    cv::RNG rng(seed);
+    std::vector<cv::Vec3b> pixels;
+    for (int i = 0; i < n; ++i) {
+      const auto p = hsvToBgr({h + rng.gaussian(1.5), s + rng.gaussian(0.02), v + rng.gaussian(2.0)});
+      pixels.emplace_back(p[0], p[1], p[2]);
+    }
+    return pixels;
+  };
+  const ClassPixels samples = {{ColorClass::Pink, print(330, 0.55, 200, 12, 1)},
+                               {ColorClass::Red, print(2, 0.85, 190, 12, 2)},
+                               {ColorClass::Carpet, print(110, 0.5, 90, 400, 3)}};
+  ColorTableParams body_only;
+  body_only.generalize_sigmas = 0;
+  const ColorTable generalised = ColorTable::build(samples), body = ColorTable::build(samples, body_only);
+  auto share = [](const ColorTable& t, const std::vector<cv::Vec3b>& pixels, ColorClass c) {
+    int n = 0;
+    for (const auto& p : pixels) n += t.classify(p[0], p[1], p[2]) == c;
+    return static_cast<double>(n) / pixels.size();
+  };
+  const auto other_pink = print(322, 0.62, 175, 500, 4);  // another sheet, in a darker place
+  const auto other_red = print(8, 0.78, 210, 500, 5);
+  const auto other_carpet = print(104, 0.42, 100, 500, 6);
+  std::printf("[ generalise ] other pink %.3f (body %.3f), other red %.3f (body %.3f)\n",
+              share(generalised, other_pink, ColorClass::Pink), share(body, other_pink, ColorClass::Pink),
+              share(generalised, other_red, ColorClass::Red), share(body, other_red, ColorClass::Red));
+  EXPECT_GT(share(generalised, other_pink, ColorClass::Pink), 0.99);
+  EXPECT_GT(share(generalised, other_red, ColorClass::Red), 0.99);
+  EXPECT_LT(share(body, other_pink, ColorClass::Pink), 0.5);
+  EXPECT_LT(share(body, other_red, ColorClass::Red), 0.5);
+  EXPECT_EQ(share(generalised, other_pink, ColorClass::Red), 0.0);
+  EXPECT_EQ(share(generalised, other_red, ColorClass::Pink), 0.0);
+  EXPECT_EQ(
+      share(generalised, other_carpet, ColorClass::Pink) + share(generalised, other_carpet, ColorClass::Red),
+      0.0);
+  // The background model: where the calibration image's background shows that other
+  // print's colour (a floor, a shirt), generalisation leaves the cells alone.
+  std::vector<SamplePixel> floor;
+  for (const auto& p : other_pink) floor.push_back({p, std::max({p[0], p[1], p[2]})});
+  ClassSamplePixels as_taken;
+  for (const auto& [c, pixels] : samples) {
+    for (const auto& p : pixels) as_taken[c].push_back({p, std::max({p[0], p[1], p[2]})});
+  }
+  ColorTableParams guarded;
+  guarded.background_share = 1e-3;
+  const ColorTable with_floor = ColorTable::buildFromSamplePixels(as_taken, guarded, floor);
+  EXPECT_LT(share(with_floor, other_pink, ColorClass::Pink), 0.1);
+  EXPECT_GT(share(ColorTable::buildFromSamplePixels(as_taken, guarded), other_pink, ColorClass::Pink), 0.99);
+  // Greys and black are no marker's: far outside every Gaussian.
+  for (const auto& p : {cv::Vec3b(128, 128, 128), cv::Vec3b(20, 20, 20), cv::Vec3b(250, 250, 250)})
+    EXPECT_EQ(generalised.classify(p[0], p[1], p[2]), ColorClass::None);
 }

@@ -11,7 +11,7 @@ import unittest
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "test" / "docs"))
-from test_docs import JUnitResult, write_junit  # noqa: E402  (the JUnit output the script tests share)
+from test_docs import main  # noqa: E402  (the runner and JUnit output the script tests share)
 
 SOURCE_DIRS = ("src", "include", "test")
 SUFFIXES = (".cpp", ".h", ".hpp")
@@ -42,15 +42,5 @@ class ClangFormat(unittest.TestCase):
             self.assertTrue(any(f.is_relative_to(REPO / top) for f in cpp_sources()), top)
 
 
-def main(argv):
-    xml = next((a.split("=", 1)[1].removeprefix("xml:") for a in argv if a.startswith("--gtest_output=")), None)
-    tests = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
-    result = unittest.TextTestRunner(resultclass=JUnitResult, verbosity=2).run(tests)
-    if xml:
-        pathlib.Path(xml).parent.mkdir(parents=True, exist_ok=True)
-        write_junit(result, xml)
-    return 0 if result.wasSuccessful() else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(main(sys.argv[1:], sys.modules[__name__]))

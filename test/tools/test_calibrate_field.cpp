@@ -121,3 +121,72 @@ TEST_F(CalibrateField, BadInputGivesNonZeroExitAndAClearMessage) {
   EXPECT_NE(r.output.find("--max-rms: Value abc"), std::string::npos) << r.output;
   EXPECT_EQ(std::system(("test -e " + out).c_str()) == 0, false) << "no pose must be written on failure";
 }
+
+// From the field lines of make_scenario's frame of camera 0 (1280x1024, k1 -0.12) and 4
+// corners of its half clicked 3 px off: with the true intrinsics; without distortion the
+// tool refuses and advises --estimate-intrinsics; with it (focal length kept) it writes the
+// pose and a camera_info whose k1 is the simulator's.
+TEST(CalibrateFieldFromLines, PoseAndDistortionFromOneFrameAndFourCorners) {
+  const std::string dir = kDir + "_lines";
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+                          "/config/scenarios/even_static.yaml --frames 1 --cameras 0 --out " + dir +
+                          "/s.bag > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const FieldGeometry field;
+  const CameraModel truth = CameraModel::defaultCamera(field, 0);
+  std::string corners;
+  int sign = 1;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(-4.5, -3, 0), Eigen::Vector3d(0, -3, 0),
+                                   Eigen::Vector3d(0, 3, 0), Eigen::Vector3d(-4.5, 3, 0)}) {
+    const Eigen::Vector2d px = *truth.project(c) + Eigen::Vector2d(3.0 * sign, -3.0);
+    sign = -sign;
+    corners += (corners.empty() ? "" : ",") + std::to_string(px.x()) + "," + std::to_string(px.y());
+  }
+  const std::string image = dir + "/first_frame.png", info = dir + "/camera_info.yaml";
+  ASSERT_EQ(std::system(("test -f " + image + " && test -f " + info).c_str()), 0) << "make_scenario's files";
+  auto expectPose = [&](const std::string& out) {
+    const CameraPoseFile pose = loadCameraPoseFile(out);
+    const double mm = 1000 * (pose.field_T_camera.translation() - truth.fieldTCamera().translation()).norm();
+    const double deg = rotationErrorDeg(pose.field_T_camera, truth.fieldTCamera());
+    std::printf("[ calibrate_field --image ] %s: %.2f mm, %.4f deg, RMS %.3f px\n", out.c_str(), mm, deg,
+                pose.rms_error_px);
+    EXPECT_LT(mm, 10.0);
+    EXPECT_LT(deg, 0.2);
+    EXPECT_LE(pose.rms_error_px, 0.5);
+  };
+
+  const ToolRun known = run("--image " + image + " --camera-info " + info + " --corners " + corners +
+                            " --out " + dir + "/pose.yaml");
+  ASSERT_EQ(known.status, 0) << known.output;
+  expectPose(dir + "/pose.yaml");
+
+  // The same camera believed distortion-free.
+  CameraIntrinsics k = loadCameraInfoYaml(info);
+  ASSERT_NEAR(k.dist[0], -0.12, 1e-9);
+  k.dist = {};
+  saveCameraInfoYaml(dir + "/no_distortion.yaml", k, "camera_0");
+  const ToolRun refused = run("--image " + image + " --camera-info " + dir +
+                              "/no_distortion.yaml --corners " + corners + " --out " + dir + "/refused.yaml");
+  EXPECT_EQ(refused.status, 3) << refused.output;
+  EXPECT_NE(refused.output.find("intrinsics likely off; try --estimate-intrinsics"), std::string::npos)
+      << refused.output;
+  EXPECT_NE(system(("test -f " + dir + "/refused.yaml").c_str()), 0) << "nothing written";
+
+  const ToolRun estimated =
+      run("--image " + image + " --camera-info " + dir + "/no_distortion.yaml --corners " + corners +
+          " --estimate-intrinsics --fix-focal-length --out " + dir + "/estimated.yaml");
+  ASSERT_EQ(estimated.status, 0) << estimated.output;
+  std::printf("%s", estimated.output.c_str());
+  expectPose(dir + "/estimated.yaml");
+  const CameraIntrinsics fitted = loadCameraInfoYaml(dir + "/estimated.camera_info.yaml");
+  EXPECT_NEAR(fitted.dist[0], -0.12, 0.01);
+  EXPECT_DOUBLE_EQ(fitted.fx, k.fx);
+
+  // Usage: a start is needed; --fix-focal-length needs --camera-info.
+  EXPECT_EQ(run("--image " + image + " --camera-info " + info + " --out " + dir + "/x.yaml").status, 2);
+  EXPECT_EQ(run("--image " + image + " --estimate-intrinsics --fix-focal-length --corners " + corners +
+                " --out " + dir + "/x.yaml")
+                .status,
+            2);
+}

@@ -91,6 +91,14 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
   EXPECT_LE(report["robots"]["heading_rmse_deg"].get<double>(), 1.0);
   EXPECT_GE(report["ball"]["detection_rate"].get<double>(), 0.99);
   EXPECT_EQ(report["identity_switches"].get<int>(), 0);
+  // The measured rate: each visible robot of each frame in exactly one class, printed too.
+  const json& m = report["measured"];
+  EXPECT_EQ(m["measured"].get<int>() + m["wrong_id"].get<int>() + m["identification_rejected"].get<int>() +
+                m["nothing_segmented"].get<int>(),
+            m["visible"].get<int>());
+  EXPECT_GE(m["visible"].get<int>(), 2 * kFrames);  // camera 0 sees about half of the 10 robots
+  EXPECT_GE(m["rate"].get<double>(), 0.95);
+  EXPECT_NE(r.output.find("measured: "), std::string::npos);
   EXPECT_EQ(report["frames_processed"].get<int>(), kFrames);
   EXPECT_EQ(report["frames_scored"].get<int>(), kFrames);
   EXPECT_GT(report["window_frames"].get<int>(), kFrames / 2);

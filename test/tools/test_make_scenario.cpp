@@ -1,8 +1,11 @@
 // make_scenario end to end: the bag holds every topic with equal capture stamps, and the
 // exchange files next to it agree with the bag and with the camera model.
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -125,6 +128,44 @@ TEST_F(MakeScenario, SamplesAndFieldPointsMatchTheFirstFrame) {
     EXPECT_LT((*camera.project(p.field) - p.pixel).norm(), 1e-6);
   }
   EXPECT_GE(loadFieldCorrespondences(kDir + "/field_points_camera_1.yaml").size(), 4u);
+}
+
+// --calibration-frame auto: a user calibrates on a frame that shows every colour. The
+// chosen frame's samples hold every marker colour of the robots camera 0 shows during the
+// recording, and calibration_frame.png is that frame (frame 0 here shows only some).
+TEST(MakeScenarioCli, CalibrationFrameAutoShowsEveryColourInView) {
+  const std::string dir = ::testing::TempDir() + "/make_scenario_calibration_frame";
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cmd =
+      std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+      "/config/scenarios/rand_wide_angle.yaml --seed 36 --frames 100 --width 640 --height 512 " +
+      "--sample-inset 2 --calibration-frame auto --out " + dir + "/s.bag > " + dir + "/log.txt";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream log(dir + "/log.txt");
+  std::string line, chosen;
+  while (std::getline(log, line)) {
+    if (line.rfind("camera 0: calibration frame: ", 0) == 0) chosen = line;
+  }
+  ASSERT_FALSE(chosen.empty());
+  int frame = -1;
+  std::size_t shown = 0, in_view = 0;
+  ASSERT_EQ(std::sscanf(chosen.c_str(), "camera 0: calibration frame: %d (shows %zu of the %zu", &frame,
+                        &shown, &in_view),
+            3)
+      << chosen;
+  EXPECT_GT(frame, 0);  // frame 0 lacks a colour in this game
+  EXPECT_EQ(shown, in_view);
+  const auto samples = loadColorSamples(dir + "/samples.yaml");
+  std::size_t marker_colours = 0;
+  for (const auto& [c, polygons] : samples) marker_colours += isMarkerColor(c);
+  EXPECT_EQ(marker_colours, in_view);
+  EXPECT_EQ(cv::imread(dir + "/calibration_frame.png").cols, 640);
+  // An index past the recording is refused.
+  EXPECT_EQ(
+      WEXITSTATUS(std::system((std::string(MAKE_SCENARIO_BIN) + " --preset uneven_drift --frames 3 --out " +
+                               dir + "/t.bag --calibration-frame 3 > /dev/null 2>&1")
+                                  .c_str())),
+      2);
 }
 
 TEST(MakeScenarioCli, BadArgumentsFailWithStatus2) {

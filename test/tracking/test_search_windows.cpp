@@ -86,7 +86,7 @@ TEST_P(NextPositionInWindow, ContainsTheTrueNextPosition) {
   const int frames = std::min(30, static_cast<int>(path / (c.speed * interval)));
   TrackedRun run;
   drive(run, c.ball, {-4.4, -3.0}, direction * c.speed, interval, frames);
-  const auto windows = searchWindows(run.tracker.output(run.next_stamp), camera, interval);
+  const auto windows = searchWindows(run.tracker.predictions(run.next_stamp), camera, interval);
   const auto* w = windowOf(windows, c.ball ? SearchWindow::Target::Ball : SearchWindow::Target::Robot);
   ASSERT_NE(w, nullptr);
   const double height = c.ball ? 0.0215 : 0.150;
@@ -143,8 +143,8 @@ TEST(SearchWindows, GrowWithUncertaintyAndBallSpeed) {
   const auto camera = CameraModel::defaultCamera(field, 0);
   TrackedRun run;
   drive(run, false, {-2.0, 0.0}, {1.0, 0.0}, 1.0 / 60, 30);
-  const auto fresh = searchWindows(run.tracker.output(run.next_stamp), camera, 1.0 / 60);
-  const auto stale = searchWindows(run.tracker.output(run.next_stamp + 0.4), camera, 1.0 / 60);
+  const auto fresh = searchWindows(run.tracker.predictions(run.next_stamp), camera, 1.0 / 60);
+  const auto stale = searchWindows(run.tracker.predictions(run.next_stamp + 0.4), camera, 1.0 / 60);
   ASSERT_EQ(fresh.size(), 1u);
   ASSERT_EQ(stale.size(), 1u);
   EXPECT_GT(stale[0].rect.width, fresh[0].rect.width + 20);
@@ -191,7 +191,7 @@ TEST(SearchWindows, GlobalSearchWhenATargetExpectedInThisCameraIsMissing) {
   };
   auto step = [&](int k, bool with_left) {
     policy.observe(tracker.update(frame(k, with_left, k == 0)));
-    const auto windows = searchWindows(tracker.output(kT0 + (k + 1) / 60.0), cam0, 1.0 / 60);
+    const auto windows = searchWindows(tracker.predictions(kT0 + (k + 1) / 60.0), cam0, 1.0 / 60);
     return policy.decide(windows, tracker.numRobotTracks() + tracker.numBallTracks());
   };
   EXPECT_EQ(step(0, true), GlobalSearchReason::First);

@@ -43,4 +43,16 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images,
                                const ColorTableParams& params = {},
                                CalibrationLight light = CalibrationLight::Normalized);
 
+// The classes of `samples` without a cell in `table`: their polygons selected no pixel, or
+// the Bayes decisions gave all their cells to other classes. A table that lost a class
+// cannot see that colour at all; ~calibrate refuses it.
+std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const ColorTable& table);
+
+// `fresh`, built from `samples`, with every class `samples` has no polygon for taken from
+// `previous` (ColorTable::withClassesFrom): a user who paints a few colours anew keeps the
+// others instead of a table that no longer sees them. Throws std::invalid_argument when
+// the tables' quantisation differs.
+ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,
+                                const ColorSamples& samples);
+
 }  // namespace soccer_vision

@@ -16,4 +16,9 @@ namespace soccer_vision {
 CameraIntrinsics parseCameraInfoYaml(const std::string& yaml_text, const std::string& source_name);
 CameraIntrinsics loadCameraInfoYaml(const std::string& path);
 
+// The YAML of these intrinsics (plumb_bob, no rectification) as camera_calibration writes
+// it, e.g. intrinsics estimated from the field lines; parseCameraInfoYaml reads it back.
+std::string toCameraInfoYaml(const CameraIntrinsics& k, const std::string& camera_name);
+void saveCameraInfoYaml(const std::string& path, const CameraIntrinsics& k, const std::string& camera_name);
+
 }  // namespace soccer_vision

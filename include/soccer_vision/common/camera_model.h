@@ -19,6 +19,15 @@ struct CameraIntrinsics {
   std::array<double, 5> dist{};  // k1, k2, p1, p2, k3
 };
 
+// The largest image side any input may have (docs/robustness.md): a 16k camera, far above
+// the 1280 x 1024 of the paper; bigger sizes are refused before anything is allocated.
+constexpr int kMaxImageSide = 16384;
+
+// Throws std::invalid_argument naming the field for a size outside 1..kMaxImageSide, a
+// focal length that is not finite and positive, or a principal point or distortion
+// coefficient that is not finite (NaN or Inf once gave 0 robots with OK diagnostics).
+void checkIntrinsics(const CameraIntrinsics& k);
+
 class CameraModel {
  public:
   CameraModel() = default;

@@ -3,6 +3,7 @@
 // sample pixels of a class are filtered.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 namespace soccer_vision {
@@ -27,6 +28,9 @@ struct Lab {
 
 Hsv bgrToHsv(std::uint8_t b, std::uint8_t g, std::uint8_t r);
 Lab bgrToLab(std::uint8_t b, std::uint8_t g, std::uint8_t r);
+// The inverse of bgrToHsv, rounded to 8 bits: the pixel of hue h (degrees, any value:
+// wrapped), saturation s (clamped to [0, 1]) and value v (clamped to [0, 255]).
+std::array<std::uint8_t, 3> hsvToBgr(const Hsv& hsv);
 
 // CIE76 colour difference: Euclidean distance in L*a*b*.
 double labDistance(const Lab& x, const Lab& y);

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "soccer_vision/common/color_class.h"
+#include "soccer_vision/common/rejection_counts.h"
 
 namespace soccer_vision {
 
@@ -36,6 +37,7 @@ struct CameraFrameDetections {
   bool global_search = true;  // segmentation looked at the whole frame
   std::vector<RobotDetection> robots;
   std::vector<BallDetection> balls;  // candidates, best first
+  RejectionCounts rejections;        // candidates not reported, by cause
 };
 
 }  // namespace soccer_vision

@@ -45,6 +45,20 @@ std::vector<FrameRecord> readJsonLines(const std::string& path);
 using Polygon = std::vector<Eigen::Vector2d>;
 // Class -> polygons (pixel coordinates of one image). Unknown class names are errors.
 using ColorSamples = std::map<ColorClass, std::vector<Polygon>>;
+
+// Limits of colour samples (docs/robustness.md). A clicked polygon has a handful of
+// vertices; the limits bound the work of one calibration (rows x vertices) and keep every
+// coordinate far inside the range of an int.
+constexpr std::size_t kMaxPolygonVertices = 10000;
+constexpr std::size_t kMaxSamplePolygons = 1000;    // all classes together
+constexpr std::size_t kMaxSampleVertices = 100000;  // all polygons together
+constexpr double kMaxSampleCoordinate = 1e6;        // |u|, |v| in pixels
+// Throws std::invalid_argument naming the class, the polygon (0-based) and the vertex for a
+// polygon with fewer than 3 or more than kMaxPolygonVertices vertices, a NaN or infinite
+// coordinate or one beyond kMaxSampleCoordinate, no area (all vertices on one line), or
+// more than kMaxSamplePolygons polygons or kMaxSampleVertices vertices in all. Every reader and user of
+// samples calls it.
+void checkColorSamples(const ColorSamples& samples);
 std::string toYaml(const ColorSamples& samples);
 ColorSamples parseColorSamples(const std::string& yaml_text, const std::string& source_name);
 ColorSamples loadColorSamples(const std::string& path);
@@ -53,6 +67,8 @@ struct FieldCorrespondence {
   Eigen::Vector2d pixel;  // raw (distorted) image
   Eigen::Vector3d field;  // metres
 };
+// Far more than anyone clicks; the pose solver compares every pair.
+constexpr std::size_t kMaxFieldCorrespondences = 10000;
 std::string toYaml(const std::vector<FieldCorrespondence>& points);
 std::vector<FieldCorrespondence> parseFieldCorrespondences(const std::string& yaml_text,
                                                            const std::string& source_name);

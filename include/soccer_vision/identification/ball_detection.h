@@ -3,8 +3,12 @@
 // each other joined (a ball moving more than its diameter per exposure is a streak that
 // segmentation may cut in pieces), kept when they lie on the carpet
 // (plus a margin) and their pixel area is plausible for a 43 mm sphere at that place of
-// the image (its silhouette projected through the camera model). Several candidates may
-// remain; each gets a confidence from its area ratio, best first.
+// the image (its silhouette projected through the camera model) and its shape is a ball's:
+// its narrow width (from the second moments) near the projected diameter (a cable or a
+// thin stripe is not a ball; a half-hidden ball still is), elongated at most as a blurred
+// streak is. Several candidates may remain; each gets a confidence from its area ratio,
+// weighted down outside the playing area (a ball there is out of play; orange shoes and
+// clothes stand there), best first.
 #pragma once
 
 #include <vector>
@@ -24,7 +28,13 @@ struct BallDetectionParams {
   double area_sigma = 0.5;       // scoring scale of ln(observed / expected area)
   double field_margin = 0.10;    // m beyond the carpet (playing area + boundary)
   double merge_distance = 0.06;  // m: orange fragments closer than this are one ball
-  int max_candidates = 4;        // best first; 0 = all
+  // Width across the region: 4 x the std-dev along its minor axis / the projected ball
+  // diameter (a disc: 1; a half-hidden ball: 0.53).
+  double width_ratio_min = 0.4;
+  double width_ratio_max = 1.7;
+  double max_elongation = 5.0;       // major / minor std-dev (a 15 m/s ball over 6 ms: 2.6)
+  double outside_play_weight = 0.5;  // confidence factor beyond the lines (orders candidates)
+  int max_candidates = 4;            // best first; 0 = all
   double min_confidence = 0.02;
 };
 
@@ -35,8 +45,10 @@ class BallDetector {
   void setParams(const BallDetectionParams& params) { params_ = params; }
 
   // `region_used`: per region, true when a robot took it (empty = none taken).
+  // `rejections`, when given: clusters not reported are added by cause.
   std::vector<BallDetection> detect(const std::vector<Region>& regions,
-                                    const std::vector<bool>& region_used = {}) const;
+                                    const std::vector<bool>& region_used = {},
+                                    RejectionCounts* rejections = nullptr) const;
 
  private:
   CameraModel camera_;

@@ -65,6 +65,7 @@ struct PipelineFrame {
   std::size_t windows = 0;  // rectangles searched (windows + entry bands)
   PipelineTimings times;
   CameraFrameDetections detections;
+  std::vector<Region> regions;  // the segmented regions identification saw (image pixels)
   // The tracks predicted to this stamp before this frame's measurements (the Kalman
   // prediction the windows were made from; paper Fig. 6), and the output after them.
   TrackerOutput prediction;

@@ -18,7 +18,8 @@ namespace soccer_vision {
 // plumb_bob camera_info of a camera model (R = identity, P = K).
 sensor_msgs::CameraInfo toCameraInfo(const CameraModel& camera, const std::string& frame_id);
 // Intrinsics and distortion of a camera_info (plumb_bob or rational_polynomial's first 5).
-// Throws std::runtime_error for other distortion models or an empty K.
+// Throws std::runtime_error for other distortion models, an empty K, or values
+// checkIntrinsics refuses (NaN/Inf anywhere, a focal length <= 0, a size beyond the limit).
 CameraIntrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info);
 
 using RobotVisibility = std::function<bool(const RobotState&)>;

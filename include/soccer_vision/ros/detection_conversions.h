@@ -25,6 +25,7 @@ inline int fromWireRobotId(std::uint8_t id) { return id == kNoRobotId ? -1 : id;
 // A Blob back as the Region it was made from (toBlob in blob_conversions.h); colours
 // outside the ColorClass range become ColorClass::None.
 Region fromBlob(const Blob& blob);
+// Blobs with NaN or Inf geometry or no area are left out (they come from no segmentation).
 std::vector<Region> fromBlobArray(const BlobArray& blobs);
 
 // One camera frame's detections as a message (header: capture stamp, frame "field";

@@ -10,8 +10,8 @@
 namespace soccer_vision {
 
 // True when the size fields and the data agree for `layout` (the encoding's layout): a
-// non-empty image, a step that holds a row, data for every row, and a Bayer mosaic of
-// whole 2x2 quads (even width and height).
+// non-empty image at most kMaxImageSide (camera_model.h) a side, a step that holds a row, data for every row,
+// and a Bayer mosaic of whole 2x2 quads (even width and height).
 bool imageMessageIsConsistent(const sensor_msgs::Image& msg, PixelLayout layout);
 
 // The message's pixels as a cv::Mat sharing its data, or an empty Mat when the message is

@@ -17,4 +17,8 @@ RobotPoseArray toRobotPoseArray(const TrackerOutput& out, const std_msgs::Header
 // Every tracked ball, primary first, likewise.
 BallPoseArray toBallPoseArray(const TrackerOutput& out, const std_msgs::Header& header);
 
+// The inverse, for a consumer of both topics (SslOutput): the robots and balls of one stamp
+// as the tracker's output; the first ball is the primary one.
+TrackerOutput fromTrackingMessages(const RobotPoseArray& robots, const BallPoseArray& balls);
+
 }  // namespace soccer_vision

@@ -7,8 +7,10 @@
 //  2. a sample is *valid* when its CIE76 distance to the mean L*a*b* < threshold_lab and
 //     its circular hue distance to the mean hue < threshold_h;
 //  3. each valid pixel falls into an HS cell; each HS cell records [Vmin, Vmax] of its
-//     valid pixels, and the class claims every (h, s, v) cell of that HS cell whose V bin
-//     lies between bin(Vmin - v_margin) and bin(Vmax + v_margin): a closed 3-D body in HSV;
+//     valid pixels, closed in HS (hs_closing: unsampled cells next to sampled ones and
+//     inside the class's Gaussian take their V range), and the class claims every
+//     (h, s, v) cell of that HS cell whose V bin lies between bin(Vmin - v_margin) and
+//     bin(Vmax + v_margin): a closed 3-D body in HSV;
 //  4. a cell claimed by several classes goes to argmax_c p(c | h, s, v) of a Gaussian
 //     naive Bayes per class (independent H, S, V; means and variances of the valid
 //     pixels, circular for H; equal priors), evaluated at the cell centre.
@@ -76,6 +78,29 @@ struct ColorTableParams {
   // illumination normalisation (estimation error of the block's light, sensor noise).
   int v_margin = 8;  // by measurement: 4 leaves yellow/green misses on uneven_drift, 16 adds background false
                      // positives under noise
+  // Closing of each class body in HS (construction only; docs/segmentation.md): HS cells
+  // within hs_closing cells of sampled ones and within closing_sigmas of the class's H and
+  // S Gaussian take their neighbours' V range; 0 = the body of the samples alone (the
+  // default until its cost under colour noise is measured: docs/segmentation.md).
+  int hs_closing = 0;
+  double closing_sigmas = 3.0;
+  // Generalisation of a few samples (construction only; docs/segmentation.md): every cell
+  // whose colour lies within generalize_sigmas (Mahalanobis distance, at the nearest of
+  // its centre and 8 inner corners) of the class's L*a*b* Gaussian is claimed too, and
+  // overlaps are decided by those Gaussians. The Gaussian is the valid samples' mean and
+  // covariance plus spread_l² on L* and spread_ab² on a* and b*: what one frame's few
+  // pixels per colour do not show (other prints of the same colour, other light, noise).
+  // 0 = off: the body of the samples alone.
+  double generalize_sigmas = 3.0;
+  double spread_l = 6.0;   // ΔE
+  double spread_ab = 5.0;  // ΔE
+  // The background model of generalisation: a cell the Gaussians reach is not claimed when
+  // more than this share of the calibration images' background pixels (all pixels but the
+  // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
+  // beyond the field, shadows and whatever else no class was sampled on. 0 = off, the
+  // default: clothes in team colours beyond the lines then keep the team colours from
+  // generalising (docs/segmentation.md); 1e-5 suits a hall whose floor is near a marker colour.
+  double background_share = 0;
   // Per-class thresholds that replace the two above, e.g. no hue test for greys.
   std::map<ColorClass, ClassThresholds> overrides = {
       {ColorClass::Line, {20.0, 360.0}},      // white: hue is noise
@@ -119,8 +144,11 @@ class ColorTable {
   static ColorTable build(const ClassPixels& samples, const ColorTableParams& params = {});
   // The same from samples with their V given: H and S come from the pixel, V from
   // SamplePixel::v, and the L*a*b* validity test sees the pixel scaled to that V.
+  // `background`: the calibration images' pixels away from the marker samples, for the
+  // background model of generalisation (none: no guard).
   static ColorTable buildFromSamplePixels(const ClassSamplePixels& samples,
-                                          const ColorTableParams& params = {});
+                                          const ColorTableParams& params = {},
+                                          const std::vector<SamplePixel>& background = {});
 
   // Unit gain of adjustedV: gains are fixed point with 8 fractional bits.
   static constexpr int kUnitGain = 256;
@@ -169,6 +197,11 @@ class ColorTable {
   // This table with those levels (copied). Throws std::invalid_argument unless they are
   // empty or a CV_32FC1 of finite positive values.
   ColorTable withIlluminationLevels(cv::Mat levels) const;
+  // This table with the cells of `other` that hold one of `classes` wherever this table
+  // holds None, and those classes' statistics (cells_assigned recounted): how a
+  // recalibration of a few colours keeps the colours it was given no samples for. Throws
+  // std::invalid_argument when the tables' quantisation differs.
+  ColorTable withClassesFrom(const ColorTable& other, const std::vector<ColorClass>& classes) const;
 
   // `.svct` file: magic, format version, file size, parameters, statistics, cells,
   // illumination reference and levels, CRC-32. Version 2 files (no v_margin, no levels)

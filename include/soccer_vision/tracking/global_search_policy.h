@@ -9,7 +9,7 @@
 //  - at least every period_frames processed frames (1: always; 0: never periodically).
 // Per camera, per processed frame:
 //   report = tracker.update(frame);  policy.observe(report);
-//   windows = searchWindows(tracker.output(next_stamp), camera, interval);
+//   windows = searchWindows(tracker.predictions(next_stamp), camera, interval);
 //   global = policy.decide(windows, tracker.numRobotTracks() + tracker.numBallTracks()) != None;
 #pragma once
 

@@ -46,7 +46,7 @@ struct SearchWindow {
   bool expected = false;         // centre inside the image (margin): should be seen in this frame
 };
 
-// Windows for the frame the prediction was made for (`predicted` = Tracker::output(stamp of
+// Windows for the frame the prediction was made for (`predicted` = Tracker::predictions(stamp of
 // that frame)). frame_interval [s]: time between this camera's processed frames
 // (frame_step / fps), for the ball speed margin.
 std::vector<SearchWindow> searchWindows(const TrackerOutput& predicted, const CameraModel& camera,

@@ -15,7 +15,11 @@
 //    (measurements per ball_rate_memory, decaying exponentially), with hysteresis: another
 //    track takes over only when its rate exceeds 1.5 x the primary's + 1, so a stray
 //    orange blob seen now and then never becomes the ball, and the ball is not lost to an
-//    alternative that happened to catch it after a bounce.
+//    alternative that happened to catch it after a bounce. With the field known, a track
+//    that is outside the playing area and has never moved more than ball_still_distance
+//    (an orange shoe, a cable by the lines) is "parked": it is the primary only when no
+//    other ball track exists, loses that at once to any other, and gives its slot to a new
+//    candidate inside the playing area when all max_ball_tracks are taken.
 // Several cameras: every camera's frame updates the same tracks, so a target in the
 // overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
 // prediction, slightly older frames fused at the newest time with their positions moved
@@ -26,16 +30,23 @@
 // output(stamp) predicts to the stamp asked for, so outputs at capture stamps carry no
 // lag of v × offset (10 mm at 5 m/s with a 4 ms exposure).
 // Tracks without a measurement for *_lost_timeout are dropped.
+// Honest output: a track not measured in the output's frame is a prediction (visible
+// false); once coast_sigmas x the std-dev of its predicted position (largest axis) exceeds
+// max_coast_uncertainty it is withheld from output() (consumers never get a position that
+// far off as if it were known), while predictions() still has it for the search windows
+// and association goes on, so a robot seen again is back in the next output.
 #pragma once
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/detections.h"
+#include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/tracking/ball_filter.h"
 #include "soccer_vision/tracking/robot_filter.h"
 #include "soccer_vision/tracking/tracker_timeline.h"
@@ -53,6 +64,16 @@ struct TrackerParams {
   double visible_window = 0.001;      // [s] "visible": measured at most this long before the output stamp
   double confidence_smoothing = 0.3;  // (0..1] weight of a new detection in the running confidence
   double ball_rate_memory = 0.25;     // [s] time constant of the ball tracks' measurement rate
+  // A coasting track leaves output() once coast_sigmas x its predicted position's std-dev
+  // (largest axis) exceeds max_coast_uncertainty [m]; 0 = never (every track is output).
+  double max_coast_uncertainty = 0.025;
+  double coast_sigmas = 3.0;
+  // The field whose playing area tells a ball in play from a still orange object by the
+  // lines (see "parked" above); none: every ball track is taken as in play.
+  std::optional<FieldGeometry> field;
+  double ball_still_distance = 0.10;  // [m] a ball track that never moved farther is still
+  // [s] a ball unseen for longer is followed by a kick only to a candidate inside the playing area
+  double out_of_play_kick_window = 0.02;
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
   // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
   double measurement_offset = 0.0;
@@ -95,6 +116,8 @@ struct TrackerOutput {
   double stamp = 0;                  // [s] time the states are predicted to
   std::vector<TrackedRobot> robots;  // ordered by team, id, track_id
   std::vector<TrackedBall> balls;    // primary first
+  int withheld_robots = 0;           // coasting tracks left out: too uncertain (output() only)
+  int withheld_balls = 0;
   const TrackedBall* primaryBall() const {
     return !balls.empty() && balls.front().primary ? &balls.front() : nullptr;
   }
@@ -115,6 +138,7 @@ struct TrackerUpdateReport {
   int balls_measured = 0;
   int ball_kicks = 0;  // ball filters restarted by a kick
   int balls_created = 0;
+  int balls_replaced = 0;               // parked ball tracks that gave their slot to a candidate in play
   int tracks_lost = 0;                  // robot and ball tracks dropped after their lost timeout
   std::vector<int> measured_track_ids;  // tracks this frame updated or created
   bool reset() const { return time.action == TimeAction::Reset; }
@@ -127,6 +151,7 @@ struct TrackerStats {
   long robot_outliers = 0, heading_outliers = 0, robots_reinitialised = 0, robot_maneuvers = 0;
   long heading_maneuvers = 0;
   long ball_kicks = 0, tracks_created = 0, tracks_lost = 0;
+  long balls_replaced = 0;
 };
 
 class Tracker {
@@ -137,8 +162,11 @@ class Tracker {
   TrackerUpdateReport update(const CameraFrameDetections& frame);
   // All tracks at `stamp`: predicted forward (covariance grows), or extrapolated back along
   // the velocity for a stamp before time() (frames are fused up to late_tolerance late).
+  // Tracks coasting beyond max_coast_uncertainty are left out (counted in withheld_*).
   TrackerOutput output(double stamp) const;
   TrackerOutput output() const { return output(time()); }
+  // Every track, however uncertain: what the search windows look for.
+  TrackerOutput predictions(double stamp) const;
 
   void reset();                                    // drops all tracks and the clock
   double time() const { return timeline_.now(); }  // measurement time of the newest frame
@@ -173,7 +201,11 @@ class Tracker {
     long hits;
     double rate;  // measurements per ball_rate_memory, at rate_stamp
     double rate_stamp;
+    Eigen::Vector2d start;  // [m] filtered position after its first measurement
+    double travel;          // [m] largest distance of the filtered position from start
   };
+  bool parked(const BallTrack& t) const;  // still, outside the playing area
+  bool inPlay(const BallDetection& d) const;
   double rateAt(const BallTrack& t, double now) const;
   void choosePrimaryBall();
 
@@ -187,6 +219,8 @@ class Tracker {
   void dropLost(TrackerUpdateReport& report);
   RobotMeasurement compensated(const RobotTrack& track, const RobotDetection& d, double lag) const;
   double fadedConfidence(double confidence, double last_measured, double stamp, double timeout) const;
+  TrackerOutput tracksAt(double stamp, bool withhold_uncertain) const;
+  bool tooUncertain(bool visible, const Eigen::Matrix2d& position_covariance) const;
 
   TrackerParams p_;
   TrackerTimeline timeline_;

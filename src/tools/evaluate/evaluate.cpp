@@ -5,7 +5,8 @@
 // output against ground truth (scoring.h, evaluation.h).
 //
 //   rosrun soccer_vision evaluate --bag FILE [--truth truth.jsonl]
-//       [--colors T.svct[,T1.svct] | --samples S.yaml[,S1.yaml] [--calibration-image P.png[,P1.png]]]
+//       [--colors T.svct[,T1.svct] | --samples S.yaml[,S1.yaml]
+//        [--calibration-image P.png[,P1.png] | --calibration-frame N]]
 //       [--field-points F.yaml[,F1.yaml] | --camera-pose C.yaml[,C1.yaml]] [--patterns NAME|FILE]
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]
 //       [--measurement-offset S[,S1]]
@@ -20,13 +21,16 @@
 // cameras or one per camera). What is not given is taken from the
 // files make_scenario writes beside the bag: truth.jsonl (when the bag has no ground-truth
 // topics), samples_camera_<n>_frame_<i>.yaml (samples on frame i: the table is calibrated
-// on all of those frames of the bag) or samples[_camera_<n>].yaml (on the first frame),
+// on all of those frames of the bag) or samples[_camera_<n>].yaml (on the first frame, or
+// frame --calibration-frame),
 // field_points[_camera_<n>].yaml. Without --calibration-image the samples are taken from
 // the bag's frames themselves (for a Bayer camera: their quad colours, what the
 // classifier reads). Colour tables are built with calibrate_colors' code
 // (calibrateColorTable), camera poses with calibrate_field's (solveCameraPose).
 //
-// Reports (printed; --json as one object): robot/ball/all detection rate and precision,
+// Reports (printed; --json as one object): the measured rate (visible robots measured by
+// their own frame's detections, the others by cause: measured_rate.h), robot/ball/all
+// detection rate and precision,
 // position and heading RMSE, identity switches and errors, frames processed and per
 // second; Table II (time per stage with and without dynamic windows, same bag and frame
 // step); with --sweep Table I (frame step 1-4 x window side 50/100/200/400 px: time,
@@ -62,6 +66,7 @@
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/evaluation/evaluation.h"
+#include "soccer_vision/evaluation/measured_rate.h"
 #include "soccer_vision/pipeline/vision_pipeline.h"
 #include "soccer_vision/ros/bag_frames.h"
 #include "soccer_vision/ros/conversions.h"
@@ -80,6 +85,7 @@ struct Options {
   std::vector<double> measurement_offsets;  // [s]
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
+  int calibration_frame = 0;  // the bag frame --samples / samples.yaml are on
   bool windows = true, table2 = true, sweep = false, results_only = false;
 };
 
@@ -102,6 +108,10 @@ void addOptions(CLI::App& app, Options& o) {
       ->delimiter(',');
   app.add_option("--calibration-image", o.calibration_images, "image per camera the samples are on (PNG)")
       ->delimiter(',');
+  app.add_option("--calibration-frame", o.calibration_frame,
+                 "bag frame the samples are on, without --calibration-image (make_scenario prints it)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--field-points", o.field_points, "field points per camera to solve its pose from")
       ->delimiter(',');
   app.add_option("--camera-pose", o.camera_poses, "camera pose file per camera instead")->delimiter(',');
@@ -198,7 +208,7 @@ std::map<std::size_t, std::string> samplesByFrame(const Options& o, std::size_t 
                                   ": no colour table (--colors) and no samples "
                                   "(--samples, or make_scenario's samples files beside the bag)");
     }
-    samples[0] = file;
+    samples[static_cast<std::size_t>(o.calibration_frame)] = file;
   }
   return samples;
 }
@@ -290,6 +300,7 @@ const char* encodingName(sv::PixelLayout layout) {
 
 struct RunStats {
   sv::RunEvaluation evaluation;
+  sv::MeasuredRateCounter measured;
   std::int64_t images = 0, processed = 0, global = 0, windowed = 0;
   std::vector<double> preprocessing, classification, recognition, tracking,
       total;           // [ms] per processed frame
@@ -308,6 +319,7 @@ struct Setup {
 RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLinesWriter* results) {
   sv::VisionPipeline pipeline(setup.cameras, setup.patterns, setup.field, params);
   RunStats s;
+  s.measured = sv::MeasuredRateCounter({setup.patterns.robot_height, setup.patterns.robot_radius});
   std::vector<int> ids;
   for (const auto& c : setup.cameras) ids.push_back(c.id);
   setup.problems = {};
@@ -341,6 +353,13 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
           return;
         }
         s.evaluation.add(*truth, record);
+        std::vector<Eigen::Vector2d> marker_regions;
+        for (const sv::Region& r : f.regions) {
+          // The ball's colour is no robot's: a region of it is no hint of a robot.
+          if (sv::isMarkerColor(r.color) && r.color != sv::ColorClass::Orange)
+            marker_regions.emplace_back(r.cx, r.cy);
+        }
+        s.measured.add(*truth, pc.model, f.detections.robots, marker_regions);
         if (!f.tracker_reset) s.evaluation.addPrediction(*truth, f.prediction);
       },
       &setup.problems);
@@ -387,6 +406,15 @@ json scoreJson(const sv::RunEvaluation& e) {
       {"frames_without_truth", e.unscoredFrames()},
       {"failed_frames", e.failedFrames()},
   };
+}
+
+json measuredJson(const sv::MeasuredRate& m) {
+  return {{"visible", m.visible},
+          {"measured", m.measured},
+          {"rate", m.rate()},
+          {"wrong_id", m.wrong_id},
+          {"identification_rejected", m.identification_rejected},
+          {"nothing_segmented", m.nothing_segmented}};
 }
 
 json stageJson(const RunStats& s) {
@@ -590,6 +618,7 @@ int evaluateBag(const Options& o) {
         skipped.unsupported_encoding, skipped.truncated, skipped.other_format);
   }
   json report = scoreJson(main.evaluation);
+  if (setup.truth) report["measured"] = measuredJson(main.measured.total());
   report["bag"] = o.bag;
   report["frame_step"] = o.frame_step;
   report["window_side"] = o.window_side;

@@ -45,6 +45,15 @@ std::string percent(double v) { return fmt("%.3f %%", 100 * v); }
 }  // namespace
 
 void printScore(const json& j) {
+  if (j.contains("measured")) {
+    const json& m = j["measured"];
+    std::printf(
+        "measured: %.3f %% of visible robots in their own frame (%lld of %lld); missed: %lld wrong id, %lld "
+        "identification rejected, %lld nothing segmented\n",
+        100 * m["rate"].get<double>(), m["measured"].get<long long>(), m["visible"].get<long long>(),
+        m["wrong_id"].get<long long>(), m["identification_rejected"].get<long long>(),
+        m["nothing_segmented"].get<long long>());
+  }
   const json& r = j["robots"];
   const json& b = j["ball"];
   const json& a = j["all"];

@@ -1,0 +1,53 @@
+// The measured rate: of the robots a camera frame shows whole (ground truth visible and
+// inside that camera's image), the share the frame's own detections measure -- same team
+// and id within 50 mm -- as opposed to tracks coasting on predictions. The others by
+// why they were missed, in this order:
+//   wrong id:                 a detection within 50 mm, of another team or id;
+//   identification rejected:  a region of a marker colour lies on the robot's top in the
+//                             image, yet no detection came of it;
+//   nothing segmented:        not even a marker-coloured region there.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/detections.h"
+#include "soccer_vision/common/exchange_formats.h"
+
+namespace soccer_vision {
+
+struct MeasuredRate {
+  std::int64_t visible = 0;  // robot-frames: visible robots summed over camera frames
+  std::int64_t measured = 0;
+  std::int64_t wrong_id = 0;
+  std::int64_t identification_rejected = 0;
+  std::int64_t nothing_segmented = 0;
+  double rate() const { return visible > 0 ? static_cast<double>(measured) / visible : 1.0; }
+};
+
+struct RobotBody {
+  double top_height = 0.15;  // m: the marker plane
+  double radius = 0.09;      // m
+};
+
+class MeasuredRateCounter {
+ public:
+  explicit MeasuredRateCounter(RobotBody body = {}, double match_distance = 0.05);
+
+  // One processed camera frame: the truth at its stamp, the camera, the frame's own robot
+  // detections and the image centroids of its regions of marker colours (team and id).
+  void add(const FrameRecord& truth, const CameraModel& camera, const std::vector<RobotDetection>& detections,
+           const std::vector<Eigen::Vector2d>& marker_regions);
+
+  const MeasuredRate& total() const { return total_; }
+
+ private:
+  RobotBody body_;
+  double match_distance_;
+  MeasuredRate total_;
+};
+
+}  // namespace soccer_vision

@@ -1,0 +1,14 @@
+// The synthetic camera of a scenario: the built-in camera (CameraModel::defaultCamera) with
+// the scenario's lens distortion and a tilt from straight down whose direction is drawn
+// from the seed. What the renderer draws through and what make_scenario publishes.
+#pragma once
+
+#include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/simulation/scenario.h"
+
+namespace soccer_vision {
+
+CameraModel scenarioCamera(const FieldGeometry& field, int index, const ScenarioConfig& scenario);
+
+}  // namespace soccer_vision

@@ -1,0 +1,200 @@
+"""The soak run of scripts/soak: the whole system on the synthetic field (demo.launch, two
+cameras at 60 Hz, one nodelet manager) for N minutes, on a private ROS master at
+127.0.0.1. Every few seconds it samples the manager's resident memory and CPU time
+(/proc) and the nodelets' /diagnostics (frames published, processed and dropped). At the
+end it prints the memory slope (least squares after a warm-up) and fails on growth beyond
+the noise, on dropped frames, or when the manager died."""
+import argparse
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+
+def free_port():
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def manager_pid(name):
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                args = f.read().split(b"\0")
+        except OSError:
+            continue
+        if b"manager" in args and any(a == f"__name:={name}".encode() for a in args):
+            return int(pid)
+    return None
+
+
+def rss_mb(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    raise OSError("no VmRSS")
+
+
+def cpu_seconds(pid):
+    with open(f"/proc/{pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def slope_and_noise(ts, ys):
+    """Least-squares slope of ys over ts and the standard deviation of the residuals."""
+    n = len(ts)
+    mt, my = sum(ts) / n, sum(ys) / n
+    stt = sum((t - mt) ** 2 for t in ts)
+    slope = sum((t - mt) * (y - my) for t, y in zip(ts, ys)) / stt if stt > 0 else 0.0
+    res = [y - (my + slope * (t - mt)) for t, y in zip(ts, ys)]
+    return slope, (sum(r * r for r in res) / max(1, n - 2)) ** 0.5
+
+
+class Diagnostics:
+    """The latest value of every counter of the soccer_vision nodelets."""
+
+    def __init__(self):
+        import rospy
+        from diagnostic_msgs.msg import DiagnosticArray
+
+        self.values = {}
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.callback, queue_size=50)
+
+    def callback(self, msg):
+        for st in msg.status:
+            for kv in st.values:
+                self.values[(st.name, kv.key)] = kv.value
+
+    def total(self, key_pattern):
+        total = 0
+        for (name, key), value in list(self.values.items()):
+            if re.search(key_pattern, key):
+                try:
+                    total += int(float(value))
+                except ValueError:
+                    pass
+        return total
+
+
+def main():
+    parser = argparse.ArgumentParser(prog="scripts/soak", description=__doc__)
+    parser.add_argument("--minutes", type=float, default=10.0, help="run time (0.5..600, default 10)")
+    parser.add_argument("--interval", type=float, default=5.0, help="[s] between samples (1..60, default 5)")
+    parser.add_argument("--max-slope", type=float, default=1.0,
+                        help="[MB/h] memory slope allowed beyond the noise (default 1)")
+    parser.add_argument("--gtest_output", default="",
+                        help="xml:FILE: also write the outcome as a JUnit file (as a test under catkin)")
+    a = parser.parse_args()
+    if not 0.5 <= a.minutes <= 600 or not 1 <= a.interval <= 60 or a.max_slope < 0:
+        parser.error("--minutes must be 0.5..600, --interval 1..60, --max-slope >= 0")
+
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
+    env.pop("ROS_HOSTNAME", None)
+    os.environ.update(ROS_MASTER_URI=env["ROS_MASTER_URI"], ROS_IP="127.0.0.1")
+    os.environ.pop("ROS_HOSTNAME", None)
+    manager = f"soak_manager_{port}"
+    launch = subprocess.Popen(
+        ["roslaunch", "-p", str(port), "soccer_vision", "demo.launch", "cameras:=2", "fps:=60",
+         f"manager:={manager}", f"table_dir:=/tmp/soccer_vision_soak_{port}"],
+        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        failures = run(a, manager, launch)
+        write_junit(a.gtest_output, a.minutes, failures)
+        return 1 if failures else 0
+    finally:
+        os.killpg(launch.pid, signal.SIGINT)
+        try:
+            launch.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(launch.pid, signal.SIGKILL)
+
+
+def write_junit(option, minutes, failures):
+    if not option.startswith("xml:"):
+        return
+    from xml.sax.saxutils import quoteattr
+
+    body = "".join(f"<failure message={quoteattr(f)}/>" for f in failures)
+    with open(option[4:], "w") as f:
+        f.write(f'<?xml version="1.0"?>\n<testsuites><testsuite name="soak" tests="1" failures="{len(failures)}" '
+                f'errors="0"><testcase classname="soak" name="whole_system_{minutes:g}_minutes">{body}'
+                f"</testcase></testsuite></testsuites>\n")
+
+
+def run(a, manager, launch):
+    """The list of failures (empty: the soak passed)."""
+    import rospy
+
+    deadline = time.time() + 60
+    pid = None
+    while pid is None and time.time() < deadline and launch.poll() is None:
+        time.sleep(0.5)
+        pid = manager_pid(manager)
+    if pid is None:
+        print("soak: FAILED, the nodelet manager did not start", file=sys.stderr)
+        return ["the nodelet manager did not start"]
+    rospy.init_node("soak_monitor", anonymous=True, disable_signals=True)
+    diag = Diagnostics()
+    # Start-up: colour tables, first frames, the tracker's first tracks.
+    time.sleep(15)
+    start = time.time()
+    start_cpu = cpu_seconds(pid)
+    start_published = diag.total(r"^frames published$")
+    start_processed = diag.total(r"^frames processed$")
+    # Drops of the vision system (segmentation's by cause, identification's, the tracker's
+    # late frames), apart from frames the synthetic source missed (rendering behind time).
+    vision_drops = r"^dropped: |^frames dropped \(late"
+    start_dropped = diag.total(vision_drops)
+    start_missed = diag.total(r"^frames dropped by the source$")
+    ts, rss = [], []
+    print(f"soak: {a.minutes:g} min, manager pid {pid}, sampling every {a.interval:g} s")
+    while time.time() - start < a.minutes * 60:
+        time.sleep(a.interval)
+        if not os.path.exists(f"/proc/{pid}"):
+            print("soak: FAILED, the nodelet manager died", file=sys.stderr)
+            return ["the nodelet manager died"]
+        ts.append((time.time() - start) / 3600.0)
+        rss.append(rss_mb(pid))
+    elapsed = time.time() - start
+    cpu = 100.0 * (cpu_seconds(pid) - start_cpu) / elapsed
+    published = diag.total(r"^frames published$") - start_published
+    processed = diag.total(r"^frames processed$") - start_processed
+    dropped = diag.total(vision_drops) - start_dropped
+    missed = diag.total(r"^frames dropped by the source$") - start_missed
+    # The first fifth is warm-up (allocator pools, caches, tracks appearing).
+    first = len(ts) // 5
+    slope, noise = slope_and_noise(ts[first:], rss[first:])
+    window_h = ts[-1] - ts[first]
+    growth = slope * window_h
+    print(f"soak: manager RSS {rss[first]:.1f} -> {rss[-1]:.1f} MB, slope {slope:+.2f} MB/h "
+          f"(residual noise {noise:.2f} MB), CPU {cpu:.0f} % of one core")
+    print(f"soak: frames published {published}, processed {processed}, dropped by the vision system "
+          f"{dropped}; missed by the synthetic source (rendering behind time) {missed} "
+          f"({processed / elapsed:.1f} Hz processed over both cameras)")
+    failed = []
+    # Growth beyond noise: the fitted rise over the window exceeds three residual standard
+    # deviations and the allowed slope.
+    if slope > a.max_slope and growth > 3 * noise:
+        failed.append(f"memory grows {slope:.2f} MB/h (> {a.max_slope:g} MB/h and beyond the noise)")
+    if dropped > 0:
+        failed.append(f"{dropped} frames dropped")
+    if published == 0 or processed < 0.95 * published:
+        failed.append(f"only {processed} of {published} published frames processed")
+    if failed:
+        print("soak: FAILED: " + "; ".join(failed), file=sys.stderr)
+    else:
+        print("soak: ok")
+    return failed
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,52 @@
+#include "soccer_vision/evaluation/measured_rate.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace soccer_vision {
+
+MeasuredRateCounter::MeasuredRateCounter(RobotBody body, double match_distance)
+    : body_(body), match_distance_(match_distance) {}
+
+void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camera,
+                              const std::vector<RobotDetection>& detections,
+                              const std::vector<Eigen::Vector2d>& marker_regions) {
+  for (const RobotRecord& robot : truth.robots) {
+    if (!robot.visible.value_or(false)) continue;
+    // Whole in this camera's image: its top's rim projects inside (4 points suffice here).
+    const Eigen::Vector3d centre(robot.x, robot.y, body_.top_height);
+    const auto pixel = camera.project(centre);
+    if (!pixel || !camera.inImage(*pixel)) continue;
+    double radius_px = 0;
+    bool inside = true;
+    for (const Eigen::Vector3d& offset :
+         {Eigen::Vector3d(body_.radius, 0, 0), Eigen::Vector3d(-body_.radius, 0, 0),
+          Eigen::Vector3d(0, body_.radius, 0), Eigen::Vector3d(0, -body_.radius, 0)}) {
+      const auto rim = camera.project(centre + offset);
+      inside = inside && rim && camera.inImage(*rim);
+      if (rim) radius_px = std::max(radius_px, (*rim - *pixel).norm());
+    }
+    if (!inside) continue;
+    ++total_.visible;
+
+    bool measured = false, near = false;
+    for (const RobotDetection& d : detections) {
+      if (std::hypot(d.x - robot.x, d.y - robot.y) > match_distance_) continue;
+      near = true;
+      measured = measured || (d.team == robot.team && d.id == robot.id);
+    }
+    if (measured) {
+      ++total_.measured;
+      continue;
+    }
+    if (near) {
+      ++total_.wrong_id;
+      continue;
+    }
+    bool segmented = false;
+    for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - *pixel).norm() <= radius_px;
+    ++(segmented ? total_.identification_rejected : total_.nothing_segmented);
+  }
+}
+
+}  // namespace soccer_vision

@@ -1,0 +1,85 @@
+// The measured rate counts by hand-made frames: a robot detected with its id is measured;
+// one detected under another id is a wrong id; one with only marker-coloured regions on
+// its top is an identification rejected; one with nothing there was not segmented; robots
+// not visible, or outside this camera's image, are not counted at all.
+#include <gtest/gtest.h>
+
+#include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/evaluation/measured_rate.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+RobotRecord truthRobot(Team team, int id, double x, double y, bool visible = true) {
+  RobotRecord r;
+  r.team = team;
+  r.id = id;
+  r.x = x;
+  r.y = y;
+  r.visible = visible;
+  return r;
+}
+
+RobotDetection detection(Team team, int id, double x, double y) {
+  RobotDetection d;
+  d.team = team;
+  d.id = id;
+  d.x = x;
+  d.y = y;
+  return d;
+}
+
+class MeasuredRateTest : public ::testing::Test {
+ protected:
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  MeasuredRateCounter counter;
+
+  Eigen::Vector2d pixelOf(double x, double y, double dx_m = 0) const {
+    return *camera.project(Eigen::Vector3d(x + dx_m, y, 0.15));
+  }
+};
+
+}  // namespace
+
+TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
+  FrameRecord truth;
+  truth.robots = {truthRobot(Team::Blue, 0, -2.0, 0.0),           // measured (30 mm off)
+                  truthRobot(Team::Blue, 1, -2.0, 1.0),           // detected as yellow 1: wrong id
+                  truthRobot(Team::Yellow, 2, -3.0, -1.0),        // a region on its top, no detection
+                  truthRobot(Team::Yellow, 3, -1.0, -2.0),        // nothing at all
+                  truthRobot(Team::Yellow, 4, -1.0, 2.0, false),  // not visible: not counted
+                  truthRobot(Team::Blue, 3, 3.0, 0.0)};           // camera 1's half: not in this image
+  const std::vector<RobotDetection> detections = {detection(Team::Blue, 0, -2.03, 0.0),
+                                                  detection(Team::Yellow, 1, -2.0, 1.01),
+                                                  // 60 mm off: too far to be yellow 3's
+                                                  detection(Team::Yellow, 3, -1.06, -2.0)};
+  // A team marker 40 mm from yellow 2's centre; none near yellow 3 (the one 0.5 m away
+  // is another robot's business).
+  const std::vector<Eigen::Vector2d> regions = {pixelOf(-3.0, -1.0, 0.04), pixelOf(-1.5, -2.0)};
+  counter.add(truth, camera, detections, regions);
+
+  const MeasuredRate& m = counter.total();
+  EXPECT_EQ(m.visible, 4);
+  EXPECT_EQ(m.measured, 1);
+  EXPECT_EQ(m.wrong_id, 1);
+  EXPECT_EQ(m.identification_rejected, 1);
+  EXPECT_EQ(m.nothing_segmented, 1);
+  EXPECT_DOUBLE_EQ(m.rate(), 0.25);
+}
+
+TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {
+  FrameRecord truth;
+  truth.robots = {truthRobot(Team::Blue, 0, -2.0, 0.0), truthRobot(Team::Yellow, 0, -2.0, 1.0)};
+  for (int frame = 0; frame < 10; ++frame) {
+    std::vector<RobotDetection> detections = {detection(Team::Blue, 0, -2.0, 0.0)};
+    // Yellow 0 is measured in 7 of the 10 frames.
+    if (frame < 7) detections.push_back(detection(Team::Yellow, 0, -2.0, 1.0));
+    counter.add(truth, camera, detections, {});
+  }
+  EXPECT_EQ(counter.total().visible, 20);
+  EXPECT_EQ(counter.total().measured, 17);
+  EXPECT_EQ(counter.total().nothing_segmented, 3);
+  EXPECT_DOUBLE_EQ(counter.total().rate(), 0.85);
+}

@@ -1,0 +1,143 @@
+// The ball is never a distractor: orange things of ball size just outside the lines (shoes,
+// a ball-coloured bag, a cable) are ball candidates every frame, measured as steadily as
+// the ball itself. Regions as a perfect segmentation would give them (region_builder.h)
+// -> ball detection -> tracker: the primary ball must be the real one whenever it is
+// there, and the distractors must never be the primary while it is.
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "region_builder.h"
+#include "soccer_vision/identification/ball_detection.h"
+#include "soccer_vision/tracking/tracker.h"
+
+using namespace soccer_vision;
+using soccer_vision::test::ballRegion;
+using soccer_vision::test::rasterise;
+
+namespace {
+
+constexpr double kDt = 1.0 / 60;
+const FieldGeometry kField;
+const CameraModel kCamera = CameraModel::defaultCamera(kField, 0);
+
+// An orange ellipse on the carpet (a shoe: `length` x `width`, along x), raised to z.
+Region ellipse(double x, double y, double length, double width, double z) {
+  const auto px = kCamera.project(Eigen::Vector3d(x, y, z));
+  return rasterise(ColorClass::Orange, *px, 30, [&](const Eigen::Vector2d& p) {
+    const auto f = kCamera.pixelToField(p, z);
+    if (!f) return false;
+    const double u = (f->x() - x) / (length / 2), v = (f->y() - y) / (width / 2);
+    return u * u + v * v <= 1;
+  });
+}
+
+// Ball-sized and shaped orange things outside the lines, still (on the boundary carpet;
+// div B: lines at x = -4.5 and y = +-3, carpet to 0.3 m beyond). Rasterised once.
+const std::vector<Region>& distractors() {
+  static const std::vector<Region> regions{
+      ballRegion(kCamera, {-4.65, 1.8, 0.0215}),   // an orange ball-sized bag behind the goal line
+      ballRegion(kCamera, {-4.70, -1.6, 0.0215}),  // another
+      ellipse(-2.2, 3.12, 0.05, 0.04, 0.02),       // a shoe by the side line
+      ellipse(-1.2, -3.15, 0.045, 0.045, 0.02),    // a round orange cap
+      ellipse(-3.3, -3.1, 1.2, 0.012, 0.003)};     // a cable: thin, long
+  return regions;
+}
+
+// The true ball at frame k: rolling around inside the field (bouncing off x = -4.3,
+// -0.6 and y = +-2.8), passing within 0.2 m of the lines and of the distractors.
+Eigen::Vector2d trueBall(int k) {
+  auto bounce = [](double s, double lo, double hi) {
+    const double span = hi - lo;
+    double m = std::fmod(s - lo, 2 * span);
+    if (m < 0) m += 2 * span;
+    return m <= span ? lo + m : hi - (m - span);
+  };
+  const double t = k * kDt;
+  return {bounce(-2.0 + 2.3 * t, -4.3, -0.6), bounce(0.4 + 1.7 * t, -2.8, 2.8)};
+}
+
+struct BallFigures {
+  int frames_with_ball = 0, found = 0;  // primary within 50 mm and measured
+  int false_primary = 0;                // a primary farther than 50 mm from the ball
+  int false_candidates = 0;             // candidates not the ball, for the record
+};
+
+// `frames` frames; the ball is on the field from frame `ball_from` on, unseen in frames
+// where hidden(k) (behind a robot).
+BallFigures run(int frames, int ball_from, bool (*hidden)(int)) {
+  TrackerParams params;
+  params.field = kField;
+  Tracker tracker(params);
+  const BallDetector detector(kCamera, kField);
+  BallFigures fig;
+  for (int k = 0; k < frames; ++k) {
+    std::vector<Region> regions = distractors();
+    const Eigen::Vector2d truth = trueBall(k);
+    const bool ball_seen = k >= ball_from && !hidden(k);
+    if (ball_seen) regions.push_back(ballRegion(kCamera, {truth.x(), truth.y(), 0.0215}));
+    CameraFrameDetections f;
+    f.stamp = 100 + k * kDt;
+    f.balls = detector.detect(regions);
+    for (const auto& b : f.balls) fig.false_candidates += std::hypot(b.x - truth.x(), b.y - truth.y()) > 0.05;
+    tracker.update(f);
+    const TrackerOutput out = tracker.output(f.stamp);
+    const TrackedBall* primary = out.primaryBall();
+    if (k >= ball_from && primary) {
+      if (std::hypot(primary->x - truth.x(), primary->y - truth.y()) > 0.05) ++fig.false_primary;
+    }
+    if (ball_seen) {
+      ++fig.frames_with_ball;
+      fig.found +=
+          primary && primary->visible && std::hypot(primary->x - truth.x(), primary->y - truth.y()) <= 0.05;
+    }
+  }
+  return fig;
+}
+
+bool never(int) { return false; }
+bool everyFewSeconds(int k) { return k % 150 >= 140; }  // 10 frames hidden every 2.5 s
+
+}  // namespace
+
+TEST(BallAmongDistractors, DistractorsAreCandidatesButNeverThePrimary) {
+  // They are found as candidates (all candidates are still published) ...
+  const BallDetector detector(kCamera, kField);
+  const auto alone = detector.detect(distractors());
+  EXPECT_EQ(alone.size(), 4u);  // the bags, the shoe and the cap; the cable is no ball
+  // ... and the ball in play comes first among them.
+  std::vector<Region> regions = distractors();
+  regions.push_back(ballRegion(kCamera, {-2.0, 0.4, 0.0215}));
+  const auto with_ball = detector.detect(regions);
+  ASSERT_FALSE(with_ball.empty());
+  EXPECT_LT(std::hypot(with_ball[0].x + 2.0, with_ball[0].y - 0.4), 0.005);
+
+  const BallFigures fig = run(1200, 0, never);
+  std::printf(
+      "ball among 5 distractors, 1200 frames: found %d / %d, false primary %d (candidates not the "
+      "ball: %d)\n",
+      fig.found, fig.frames_with_ball, fig.false_primary, fig.false_candidates);
+  EXPECT_GE(fig.false_candidates, 1200 * 3);  // the distractors were there all along (3 of 4 kept)
+  EXPECT_EQ(fig.false_primary, 0);
+  EXPECT_GE(fig.found, fig.frames_with_ball * 0.995);
+}
+
+TEST(BallAmongDistractors, BallHiddenNowAndThenNeverJumpsOntoADistractor) {
+  const BallFigures fig = run(1200, 0, everyFewSeconds);
+  std::printf("ball hidden 10 of every 150 frames: found %d / %d, false primary %d\n", fig.found,
+              fig.frames_with_ball, fig.false_primary);
+  EXPECT_EQ(fig.false_primary, 0);
+  EXPECT_GE(fig.found, fig.frames_with_ball * 0.995);
+}
+
+TEST(BallAmongDistractors, BallPutIntoPlayAfterTheDistractorsTakesOverAtOnce) {
+  // For 2 s only the distractors are there: one of them is the primary (there is nothing
+  // else) and all max_ball_tracks slots are taken; then the ball comes into play.
+  const BallFigures fig = run(600, 120, never);
+  std::printf("ball put into play after 2 s of distractors: found %d / %d, false primary %d\n", fig.found,
+              fig.frames_with_ball, fig.false_primary);
+  EXPECT_EQ(fig.false_primary, 0);
+  EXPECT_EQ(fig.found, fig.frames_with_ball);
+}
