@@ -6,20 +6,12 @@
 
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/evaluation/measured_rate.h"
+#include "support/scene_objects.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::robotRecord;
 
 namespace {
-
-RobotRecord truthRobot(Team team, int id, double x, double y, bool visible = true) {
-  RobotRecord r;
-  r.team = team;
-  r.id = id;
-  r.x = x;
-  r.y = y;
-  r.visible = visible;
-  return r;
-}
 
 RobotDetection detection(Team team, int id, double x, double y) {
   RobotDetection d;
@@ -45,12 +37,12 @@ class MeasuredRateTest : public ::testing::Test {
 
 TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
   FrameRecord truth;
-  truth.robots = {truthRobot(Team::Blue, 0, -2.0, 0.0),           // measured (30 mm off)
-                  truthRobot(Team::Blue, 1, -2.0, 1.0),           // detected as yellow 1: wrong id
-                  truthRobot(Team::Yellow, 2, -3.0, -1.0),        // a region on its top, no detection
-                  truthRobot(Team::Yellow, 3, -1.0, -2.0),        // nothing at all
-                  truthRobot(Team::Yellow, 4, -1.0, 2.0, false),  // not visible: not counted
-                  truthRobot(Team::Blue, 3, 3.0, 0.0)};           // camera 1's half: not in this image
+  truth.robots = {robotRecord(Team::Blue, 0, -2.0, 0.0),           // measured (30 mm off)
+                  robotRecord(Team::Blue, 1, -2.0, 1.0),           // detected as yellow 1: wrong id
+                  robotRecord(Team::Yellow, 2, -3.0, -1.0),        // a region on its top, no detection
+                  robotRecord(Team::Yellow, 3, -1.0, -2.0),        // nothing at all
+                  robotRecord(Team::Yellow, 4, -1.0, 2.0, false),  // not visible: not counted
+                  robotRecord(Team::Blue, 3, 3.0, 0.0)};           // camera 1's half: not in this image
   const std::vector<RobotDetection> detections = {detection(Team::Blue, 0, -2.03, 0.0),
                                                   detection(Team::Yellow, 1, -2.0, 1.01),
                                                   // 60 mm off: too far to be yellow 3's
@@ -71,7 +63,7 @@ TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
 
 TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {
   FrameRecord truth;
-  truth.robots = {truthRobot(Team::Blue, 0, -2.0, 0.0), truthRobot(Team::Yellow, 0, -2.0, 1.0)};
+  truth.robots = {robotRecord(Team::Blue, 0, -2.0, 0.0), robotRecord(Team::Yellow, 0, -2.0, 1.0)};
   for (int frame = 0; frame < 10; ++frame) {
     std::vector<RobotDetection> detections = {detection(Team::Blue, 0, -2.0, 0.0)};
     // Yellow 0 is measured in 7 of the 10 frames.

@@ -16,26 +16,18 @@
 #include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
 #include "soccer_vision/tracking/result_recording.h"
+#include "support/scene_objects.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::robotRecord;
 
 namespace {
-
-RobotRecord robot(Team team, int id, double x, double y, bool visible = true) {
-  RobotRecord r;
-  r.team = team;
-  r.id = id;
-  r.x = x;
-  r.y = y;
-  r.visible = visible;
-  return r;
-}
 
 FrameRecord truthFrame(double stamp) {
   FrameRecord f;
   f.stamp = stamp;
-  f.robots = {robot(Team::Blue, 0, 0.0, 0.0), robot(Team::Blue, 1, 1.0, 0.0),
-              robot(Team::Yellow, 0, 0.0, 1.0), robot(Team::Yellow, 1, 1.0, 1.0)};
+  f.robots = {robotRecord(Team::Blue, 0, 0.0, 0.0), robotRecord(Team::Blue, 1, 1.0, 0.0),
+              robotRecord(Team::Yellow, 0, 0.0, 1.0), robotRecord(Team::Yellow, 1, 1.0, 1.0)};
   BallRecord b;
   b.x = 0.5;
   b.y = 0.5;
@@ -194,7 +186,7 @@ Rendered render(const std::string& preset, int frames, cv::Size size = {}) {
     FrameRecord t;
     t.stamp = 100.0 + i * dt;
     for (const RobotState& s : sim.state().robots) {
-      RobotRecord rec = robot(s.team, s.id, s.x, s.y, renderer.robotVisible(s));
+      RobotRecord rec = robotRecord(s.team, s.id, s.x, s.y, renderer.robotVisible(s));
       rec.theta = s.theta;
       t.robots.push_back(rec);
     }

@@ -15,28 +15,21 @@
 #include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
+#include "support/scene_objects.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::robotState;
 
 namespace {
-
-RobotState robot(Team team, int id, double x, double y, double theta) {
-  RobotState r;
-  r.team = team;
-  r.id = id;
-  r.x = x;
-  r.y = y;
-  r.theta = theta;
-  return r;
-}
 
 // The scene on one camera's half (side -1: negative x), everything beyond 4.5 m but the
 // control robot at 3 m; what identification found through the true camera.
 CameraFrameDetections identifyHalf(const FieldGeometry& field, const FieldGeometry& identification_field,
                                    int side, SceneState& scene) {
   const double s = side;
-  scene.robots = {robot(Team::Blue, 0, s * 5.2, 1.0, 0.3), robot(Team::Blue, 1, s * 4.8, -2.0, 2.0),
-                  robot(Team::Yellow, 0, s * 5.3, -0.5, -1.2), robot(Team::Yellow, 1, s * 3.0, 0.5, 1.0)};
+  scene.robots = {robotState(Team::Blue, 0, s * 5.2, 1.0, 0.3), robotState(Team::Blue, 1, s * 4.8, -2.0, 2.0),
+                  robotState(Team::Yellow, 0, s * 5.3, -0.5, -1.2),
+                  robotState(Team::Yellow, 1, s * 3.0, 0.5, 1.0)};
   BallState ball;
   ball.x = s * 5.35;
   ball.y = 1.8;

@@ -10,8 +10,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "soccer_vision/simulation/field_renderer.h"
+#include "support/scene_objects.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::robotState;
 
 namespace {
 
@@ -46,16 +48,6 @@ CameraModel wholeFieldCamera() {
   pose.linear().col(2) = -Eigen::Vector3d::UnitZ();
   pose.translation() = Eigen::Vector3d(0, 0, 8);
   return CameraModel(k, pose);
-}
-
-RobotState robotAt(Team team, int id, double x, double y, double theta) {
-  RobotState r;
-  r.team = team;
-  r.id = id;
-  r.x = x;
-  r.y = y;
-  r.theta = theta;
-  return r;
 }
 
 Eigen::Vector3d onTop(const RobotState& r, double local_x, double local_y, double z = 0.15) {
@@ -139,8 +131,8 @@ TEST(FieldRenderer, MarkersAndBallAppearWhereTheCameraProjectsThem) {
   const ScenarioConfig scenario = cleanScenario();
   const PatternSet patterns = PatternSet::twoTag();
   SceneState scene;
-  scene.robots = {robotAt(Team::Blue, 0, -2.4, -1.1, 0.7), robotAt(Team::Yellow, 3, -0.8, 2.2, -2.5),
-                  robotAt(Team::Blue, 4, -3.9, -2.5, 2.0)};
+  scene.robots = {robotState(Team::Blue, 0, -2.4, -1.1, 0.7), robotState(Team::Yellow, 3, -0.8, 2.2, -2.5),
+                  robotState(Team::Blue, 4, -3.9, -2.5, 2.0)};
   scene.balls.resize(1);
   scene.balls[0].x = -1.7;
   scene.balls[0].y = 1.3;
@@ -177,7 +169,7 @@ TEST(FieldRenderer, TwoTagMarkersHaveTheDesignDimensions) {
   const PatternSet patterns = PatternSet::twoTag();
   const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
   SceneState scene;
-  scene.robots = {robotAt(Team::Yellow, 1, -2.0, 0.8, 0.3)};
+  scene.robots = {robotState(Team::Yellow, 1, -2.0, 0.8, 0.3)};
   const cv::Mat image = renderImage(renderer, scene);
   const RobotState& robot = scene.robots[0];
 
@@ -197,7 +189,7 @@ TEST(FieldRenderer, SslDotsSitAtTheDesignLayout) {
   const PatternSet patterns = PatternSet::ssl();
   const FieldRenderer renderer(camera, kField, patterns, cleanScenario("ssl"));
   SceneState scene;
-  scene.robots = {robotAt(Team::Blue, 5, -2.7, -0.9, 1.2)};  // id 5 = 0101: green pink green pink
+  scene.robots = {robotState(Team::Blue, 5, -2.7, -0.9, 1.2)};  // id 5 = 0101: green pink green pink
   const cv::Mat image = renderImage(renderer, scene);
   const RobotState& robot = scene.robots[0];
   const auto markers = patterns.markers(robot.team, robot.id);
@@ -236,7 +228,7 @@ TEST(FieldRenderer, LabelsNameTheDominantSurface) {
   const PatternSet patterns = PatternSet::twoTag();
   const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
   SceneState scene;
-  scene.robots = {robotAt(Team::Blue, 2, -2.0, -1.5, -0.4), robotAt(Team::Yellow, 4, -0.6, 2.4, 2.0)};
+  scene.robots = {robotState(Team::Blue, 2, -2.0, -1.5, -0.4), robotState(Team::Yellow, 4, -0.6, 2.4, 2.0)};
   scene.balls.resize(1);
   scene.balls[0].x = -3.0;
   scene.balls[0].y = 0.5;
@@ -273,7 +265,7 @@ TEST(FieldRenderer, SameSeedAndFrameGiveTheSameImage) {
   scenario.lighting.flicker = 0.05;
   scenario.lighting.uneven_ratio = 1.5;
   SceneState scene;
-  scene.robots = {robotAt(Team::Blue, 0, 2.0, 0.5, 1.0)};
+  scene.robots = {robotState(Team::Blue, 0, 2.0, 0.5, 1.0)};
   scene.balls.resize(1);
   scene.balls[0].x = 1.5;
 
@@ -369,7 +361,7 @@ TEST(IlluminationModel, GlobalGainDriftsAndFlickersDeterministically) {
 TEST(FieldRenderer, BayerMosaicSamplesTheColourImage) {
   const CameraModel camera = CameraModel::defaultCamera(kField, 0, 320, 256);
   SceneState scene;
-  scene.robots = {robotAt(Team::Blue, 1, -2.0, 0.4, 0.2)};
+  scene.robots = {robotState(Team::Blue, 1, -2.0, 0.4, 0.2)};
   ScenarioConfig scenario = cleanScenario();
   scenario.sensor.noise_sigma = 2;  // noise is part of the colour image the mosaic samples
   const cv::Mat bgr = renderImage(FieldRenderer(camera, kField, PatternSet::twoTag(), scenario), scene, 3);
@@ -397,7 +389,7 @@ TEST(FieldRenderer, BayerMosaicSamplesTheColourImage) {
 TEST(FieldRenderer, DrawsIntoAPreallocatedImage) {
   const CameraModel camera = CameraModel::defaultCamera(kField, 0, 320, 256);
   SceneState scene;
-  scene.robots = {robotAt(Team::Blue, 1, -2.0, 0.4, 0.2)};
+  scene.robots = {robotState(Team::Blue, 1, -2.0, 0.4, 0.2)};
   for (const char* bayer : {"", "grbg"}) {
     ScenarioConfig scenario;
     scenario.sensor.bayer = bayer;
@@ -414,7 +406,7 @@ TEST(FieldRenderer, DrawsIntoAPreallocatedImage) {
 
 TEST(FieldRenderer, JpegAndBlurChangeThePictureButKeepItsContent) {
   const CameraModel camera = CameraModel::defaultCamera(kField, 0, 640, 512);
-  RobotState robot = robotAt(Team::Blue, 0, -2.0, 0.4, 0.2);
+  RobotState robot = robotState(Team::Blue, 0, -2.0, 0.4, 0.2);
   robot.vx = 4.0;
   SceneState scene;
   scene.robots = {robot};

@@ -22,8 +22,10 @@
 #include "soccer_vision/common/rejection_counts.h"
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
+#include "support/scene_objects.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::robotState;
 using json = nlohmann::json;
 
 namespace {
@@ -58,24 +60,15 @@ std::set<std::string> keys(const json& object) {
   return out;
 }
 
-RobotState robot(Team team, int id, double x, double y, double theta) {
-  RobotState r;
-  r.team = team;
-  r.id = id;
-  r.x = x;
-  r.y = y;
-  r.theta = theta;
-  return r;
-}
-
 class Detect : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     ASSERT_EQ(std::system(("rm -rf " + kDir + " && mkdir -p " + kDir).c_str()), 0);
-    scene_.robots = {robot(Team::Blue, 0, -3.5, 1.8, 0.3),    robot(Team::Blue, 1, -2.0, -0.5, 2.0),
-                     robot(Team::Blue, 2, -1.0, 2.2, -1.2),   robot(Team::Blue, 3, -3.9, -2.4, 3.0),
-                     robot(Team::Yellow, 0, -2.6, 0.9, -2.6), robot(Team::Yellow, 1, -0.8, -1.6, 1.0),
-                     robot(Team::Yellow, 2, -3.0, -1.2, 0.0), robot(Team::Yellow, 4, -1.6, 1.1, -0.4)};
+    scene_.robots = {
+        robotState(Team::Blue, 0, -3.5, 1.8, 0.3),    robotState(Team::Blue, 1, -2.0, -0.5, 2.0),
+        robotState(Team::Blue, 2, -1.0, 2.2, -1.2),   robotState(Team::Blue, 3, -3.9, -2.4, 3.0),
+        robotState(Team::Yellow, 0, -2.6, 0.9, -2.6), robotState(Team::Yellow, 1, -0.8, -1.6, 1.0),
+        robotState(Team::Yellow, 2, -3.0, -1.2, 0.0), robotState(Team::Yellow, 4, -1.6, 1.1, -0.4)};
     BallState ball;
     ball.x = -2.3;
     ball.y = -1.9;
