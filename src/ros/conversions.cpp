@@ -4,6 +4,8 @@
 
 #include <sensor_msgs/distortion_models.h>
 
+#include "soccer_vision/ros/detection_conversions.h"
+
 namespace soccer_vision {
 
 sensor_msgs::CameraInfo toCameraInfo(const CameraModel& camera, const std::string& frame_id) {
@@ -57,7 +59,7 @@ RobotPoseArray toRobotPoseArray(const SceneState& scene, const ros::Time& stamp,
   for (const auto& r : scene.robots) {
     RobotPose p;
     p.header = out.header;
-    p.team = static_cast<std::uint8_t>(r.team);
+    p.team = toWireTeam(r.team);
     p.id = static_cast<std::uint8_t>(r.id);
     p.x = r.x;
     p.y = r.y;
@@ -100,7 +102,7 @@ FrameRecord toFrameRecord(const RobotPoseArray& robots, const BallPoseArray& bal
   f.stamp = robots.header.stamp.toSec();
   for (const auto& p : robots.robots) {
     RobotRecord r;
-    r.team = static_cast<Team>(p.team);
+    r.team = fromWireTeam(p.team);
     r.id = p.id;
     r.x = p.x;
     r.y = p.y;

@@ -45,7 +45,7 @@ void toCameraDetections(const CameraFrameDetections& detections, const std_msgs:
   for (const RobotDetection& d : detections.robots) {
     RobotPose p;
     p.header = out.header;
-    p.team = d.team == Team::Blue ? RobotPose::TEAM_BLUE : RobotPose::TEAM_YELLOW;
+    p.team = toWireTeam(d.team);
     p.id = toWireRobotId(d.id);
     p.x = d.x;
     p.y = d.y;
@@ -77,7 +77,7 @@ CameraFrameDetections fromCameraDetections(const CameraDetections& msg) {
   d.global_search = msg.global_search;
   for (const RobotPose& p : msg.robots) {
     RobotDetection r;
-    r.team = p.team == RobotPose::TEAM_BLUE ? Team::Blue : Team::Yellow;
+    r.team = fromWireTeam(p.team);
     r.id = fromWireRobotId(p.id);
     r.x = p.x;
     r.y = p.y;

@@ -15,7 +15,7 @@ RobotPoseArray toRobotPoseArray(const TrackerOutput& out, const std_msgs::Header
   for (const TrackedRobot& t : out.robots) {
     RobotPose p;
     p.header = header;
-    p.team = t.team == Team::Blue ? RobotPose::TEAM_BLUE : RobotPose::TEAM_YELLOW;
+    p.team = toWireTeam(t.team);
     p.id = toWireRobotId(t.id);
     p.x = t.x;
     p.y = t.y;
@@ -55,7 +55,7 @@ TrackerOutput fromTrackingMessages(const RobotPoseArray& robots, const BallPoseA
   out.stamp = robots.header.stamp.toSec();
   for (const RobotPose& p : robots.robots) {
     TrackedRobot r;
-    r.team = p.team == RobotPose::TEAM_YELLOW ? Team::Yellow : Team::Blue;
+    r.team = fromWireTeam(p.team);
     r.id = fromWireRobotId(p.id);
     r.x = p.x;
     r.y = p.y;

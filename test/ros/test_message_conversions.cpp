@@ -95,6 +95,25 @@ TEST(DetectionConversions, CameraDetectionsRoundTripIncludingTeamOnlyRobots) {
   EXPECT_DOUBLE_EQ(back.balls[0].z, 0.0215);
 }
 
+// One mapping of teams and ids for every message (detections, tracks, ground truth).
+TEST(DetectionConversions, TeamsAndIdsOnTheWire) {
+  EXPECT_EQ(toWireTeam(Team::Blue), RobotPose::TEAM_BLUE);
+  EXPECT_EQ(toWireTeam(Team::Yellow), RobotPose::TEAM_YELLOW);
+  EXPECT_EQ(fromWireTeam(RobotPose::TEAM_BLUE), Team::Blue);
+  EXPECT_EQ(fromWireTeam(RobotPose::TEAM_YELLOW), Team::Yellow);
+  EXPECT_EQ(fromWireTeam(7), Team::Blue);  // a value no sender writes stays a valid team
+  RobotPoseArray robots;
+  robots.robots.resize(1);
+  robots.robots[0].team = 9;
+  const FrameRecord f = toFrameRecord(robots, BallPoseArray());
+  ASSERT_EQ(f.robots.size(), 1u);
+  EXPECT_EQ(f.robots[0].team, Team::Blue);
+  EXPECT_EQ(toWireRobotId(-1), kNoRobotId);
+  EXPECT_EQ(toWireRobotId(300), 254);
+  EXPECT_EQ(fromWireRobotId(kNoRobotId), -1);
+  EXPECT_EQ(fromWireRobotId(12), 12);
+}
+
 TEST(FieldMarkers, FieldLinesGameObjectsAndStableIds) {
   const FieldGeometry field;
   const auto static_markers = fieldMarkers(field);

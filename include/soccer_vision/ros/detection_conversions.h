@@ -9,6 +9,7 @@
 
 #include "soccer_vision/BlobArray.h"
 #include "soccer_vision/CameraDetections.h"
+#include "soccer_vision/RobotPose.h"
 #include "soccer_vision/common/detections.h"
 #include "soccer_vision/segmentation/region_extractor.h"
 
@@ -21,6 +22,13 @@ inline std::uint8_t toWireRobotId(int id) {
   return id < 0 ? kNoRobotId : static_cast<std::uint8_t>(id < 254 ? id : 254);
 }
 inline int fromWireRobotId(std::uint8_t id) { return id == kNoRobotId ? -1 : id; }
+// RobotPose.team on the wire: TEAM_BLUE 0, TEAM_YELLOW 1; any other value reads as blue.
+inline std::uint8_t toWireTeam(Team team) {
+  return team == Team::Yellow ? RobotPose::TEAM_YELLOW : RobotPose::TEAM_BLUE;
+}
+inline Team fromWireTeam(std::uint8_t team) {
+  return team == RobotPose::TEAM_YELLOW ? Team::Yellow : Team::Blue;
+}
 
 // A Blob back as the Region it was made from (toBlob in blob_conversions.h); colours
 // outside the ColorClass range become ColorClass::None.
