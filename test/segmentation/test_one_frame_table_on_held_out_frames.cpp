@@ -23,6 +23,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "marker_interior_accuracy.h"
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/simulation/calibration_samples.h"
@@ -31,45 +32,10 @@
 #include "soccer_vision/simulation/scenario_camera.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::Accuracy;
+using soccer_vision::test::countMarkerInteriors;
 
 namespace {
-
-struct Accuracy {
-  std::int64_t interior = 0, interior_right = 0, background = 0, background_as_marker = 0;
-  double markers() const { return static_cast<double>(interior_right) / interior; }
-  double falsePositives() const { return static_cast<double>(background_as_marker) / background; }
-  void add(const Accuracy& o) {
-    interior += o.interior;
-    interior_right += o.interior_right;
-    background += o.background;
-    background_as_marker += o.background_as_marker;
-  }
-};
-
-// `counted`: the marker colours whose interiors count (all when empty).
-void count(const cv::Mat1b& truth, const cv::Mat1b& labels, Accuracy& a,
-           const std::set<ColorClass>& counted = {}) {
-  for (int y = 1; y + 1 < truth.rows; ++y) {
-    for (int x = 1; x + 1 < truth.cols; ++x) {
-      const std::uint8_t t = truth(y, x);
-      bool uniform = true, near_marker = false;
-      for (int j = -1; j <= 1; ++j) {
-        for (int i = -1; i <= 1; ++i) {
-          uniform = uniform && truth(y + j, x + i) == t;
-          near_marker = near_marker || isMarkerColor(static_cast<ColorClass>(truth(y + j, x + i)));
-        }
-      }
-      if (isMarkerColor(static_cast<ColorClass>(t))) {
-        if (!counted.empty() && !counted.count(static_cast<ColorClass>(t))) continue;
-        a.interior += uniform;
-        a.interior_right += uniform && labels(y, x) == t;
-      } else if (!near_marker) {
-        ++a.background;
-        a.background_as_marker += isMarkerColor(static_cast<ColorClass>(labels(y, x)));
-      }
-    }
-  }
-}
 
 ScenarioConfig preset(const std::string& name) {
   return loadScenario(std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/" + name + ".yaml");
@@ -107,7 +73,8 @@ std::vector<Accuracy> heldOut(const ScenarioConfig& scenario, const std::vector<
       renderer.render(sim.state(), steps, frame);
       const cv::Mat1b truth = renderer.renderLabels(sim.state());
       for (std::size_t v = 0; v < variants.size(); ++v) {
-        count(truth, classifyAll(*models[v], frame.image, PixelLayout::Bgr, SegmentationParams{}), out[v]);
+        countMarkerInteriors(
+            truth, classifyAll(*models[v], frame.image, PixelLayout::Bgr, SegmentationParams{}), out[v]);
       }
     }
   }
@@ -197,9 +164,9 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario,
         if (labels.size() != truth.size()) {
           cv::Mat1b quads;
           cv::resize(truth, quads, labels.size(), 0, 0, cv::INTER_NEAREST);
-          count(quads, labels, out[v], sampled);
+          countMarkerInteriors(quads, labels, out[v], sampled);
         } else {
-          count(truth, labels, out[v], sampled);
+          countMarkerInteriors(truth, labels, out[v], sampled);
         }
       }
     }

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "marker_interior_accuracy.h"
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/simulation/calibration_samples.h"
@@ -23,36 +24,10 @@
 #include "soccer_vision/simulation/game_simulator.h"
 
 using namespace soccer_vision;
+using soccer_vision::test::Accuracy;
+using soccer_vision::test::countMarkerInteriors;
 
 namespace {
-
-struct Accuracy {
-  std::int64_t interior = 0, interior_right = 0, background = 0, background_as_marker = 0;
-  double markers() const { return static_cast<double>(interior_right) / interior; }
-  double falsePositives() const { return static_cast<double>(background_as_marker) / background; }
-};
-
-void count(const cv::Mat1b& truth, const cv::Mat1b& labels, Accuracy& a) {
-  for (int y = 1; y + 1 < truth.rows; ++y) {
-    for (int x = 1; x + 1 < truth.cols; ++x) {
-      const std::uint8_t t = truth(y, x);
-      bool uniform = true, near_marker = false;
-      for (int j = -1; j <= 1; ++j) {
-        for (int i = -1; i <= 1; ++i) {
-          uniform = uniform && truth(y + j, x + i) == t;
-          near_marker = near_marker || isMarkerColor(static_cast<ColorClass>(truth(y + j, x + i)));
-        }
-      }
-      if (isMarkerColor(static_cast<ColorClass>(t))) {
-        a.interior += uniform;
-        a.interior_right += uniform && labels(y, x) == t;
-      } else if (!near_marker) {
-        ++a.background;
-        a.background_as_marker += isMarkerColor(static_cast<ColorClass>(labels(y, x)));
-      }
-    }
-  }
-}
 
 struct Mode {
   const char* name;
@@ -93,7 +68,7 @@ std::vector<Accuracy> measure(const ScenarioConfig& scenario, const std::vector<
       SegmentationParams params;
       params.illumination_k = modes[m].k;
       params.sharpen = modes[m].sharpen;
-      count(truth, classifyAll(*models[m], frame.image, PixelLayout::Bgr, params), out[m]);
+      countMarkerInteriors(truth, classifyAll(*models[m], frame.image, PixelLayout::Bgr, params), out[m]);
     }
   }
   for (std::size_t m = 0; m < modes.size(); ++m) {
