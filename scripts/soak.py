@@ -73,15 +73,19 @@ class Diagnostics:
             for kv in st.values:
                 self.values[(st.name, kv.key)] = kv.value
 
-    def total(self, key_pattern):
-        total = 0
+    def counters(self, key_pattern):
+        """{(status name, key): value} of the integer counters whose key matches."""
+        out = {}
         for (name, key), value in list(self.values.items()):
             if re.search(key_pattern, key):
                 try:
-                    total += int(float(value))
+                    out[(name, key)] = int(float(value))
                 except ValueError:
                     pass
-        return total
+        return out
+
+    def total(self, key_pattern):
+        return sum(self.counters(key_pattern).values())
 
 
 def main():
@@ -159,7 +163,8 @@ def run(a, manager, launch):
     # Drops of the vision system (segmentation's by cause, identification's, the tracker's
     # late frames), apart from frames the synthetic source missed (rendering behind time).
     vision_drops = r"^dropped: |^frames dropped \(late"
-    start_dropped = diag.total(vision_drops)
+    start_drop_counters = diag.counters(vision_drops)
+    start_dropped = sum(start_drop_counters.values())
     start_missed = diag.total(r"^frames dropped by the source$")
     ts, rss = [], []
     print(f"soak: {a.minutes:g} min, manager pid {pid}, sampling every {a.interval:g} s")
@@ -186,6 +191,11 @@ def run(a, manager, launch):
     print(f"soak: frames published {published}, processed {processed}, dropped by the vision system "
           f"{dropped}; missed by the synthetic source (rendering behind time) {missed} "
           f"({processed / elapsed:.1f} Hz processed over both cameras)")
+    # Nothing is dropped silently: every counter that rose, with its nodelet and cause.
+    for (name, key), value in sorted(diag.counters(vision_drops).items()):
+        rise = value - start_drop_counters.get((name, key), 0)
+        if rise:
+            print(f"soak:   {rise} x {name}: {key}")
     failed = []
     # Growth beyond noise: the fitted rise over the window exceeds three residual standard
     # deviations and the allowed slope.

@@ -13,7 +13,8 @@ void FrameIdentifier::setParams(const IdentificationParams& params) {
 }
 
 CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp,
-                                                int camera_id, bool global_search, bool mosaic) const {
+                                                int camera_id, bool global_search, bool mosaic,
+                                                std::vector<int>* confirmed) const {
   CameraFrameDetections out;
   out.stamp = stamp;
   out.camera_id = camera_id;
@@ -22,6 +23,13 @@ CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regio
   out.robots = std::move(robots.robots);
   out.rejections = robots.rejections;
   out.balls = balls_.detect(regions, robots.region_used, &out.rejections);
+  if (confirmed) {
+    confirmed->clear();
+    for (std::size_t r = 0; r < robots.region_confidence.size(); ++r) {
+      if (robots.region_confidence[r] >= params_.confirm_confidence)
+        confirmed->push_back(static_cast<int>(r));
+    }
+  }
   return out;
 }
 

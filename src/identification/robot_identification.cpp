@@ -436,7 +436,9 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
   for (int t : m.teams()) {
     if (!used[t]) out.rejections.add(had_valid[t] ? RejectionCause::Conflict : furthest[t]);
   }
+  out.region_confidence.assign(regions.size(), 0.0);
   for (const Hypothesis& h : accepted) {
+    for (const int o : h.observedUsed()) out.region_confidence[obs[o].region] = h.confidence;
     RobotDetection d;
     d.team = obs[h.team].color == ColorClass::Blue ? Team::Blue : Team::Yellow;
     d.id = h.id;

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <boost/make_shared.hpp>
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -24,6 +25,7 @@
 #include "soccer_vision/IdentificationConfig.h"
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/identification/frame_identification.h"
+#include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/transforms.h"
@@ -41,6 +43,7 @@ IdentificationParams toIdentificationParams(const IdentificationConfig& c) {
   p.robots.min_confidence = c.min_confidence;
   p.robots.max_missing_markers = c.max_missing_markers;
   p.robots.report_unidentified = c.report_unidentified;
+  p.confirm_confidence = c.confirm_confidence;
   p.balls.area_ratio_min = c.ball_area_ratio_min;
   p.balls.area_ratio_max = std::max(c.ball_area_ratio_max, c.ball_area_ratio_min);
   p.balls.field_margin = c.ball_field_margin;
@@ -73,6 +76,7 @@ class IdentificationNodelet : public nodelet::Nodelet {
 
   ros::Subscriber blobs_sub_, info_sub_;
   ros::Publisher detections_pub_;
+  ros::Publisher confirmed_pub_;  // the confirmed markers, for Segmentation's online calibration
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::shared_ptr<SharedStaticTf> static_tf_;
@@ -132,6 +136,7 @@ void IdentificationNodelet::onInit() {
       [this](IdentificationConfig& c, uint32_t level) { reconfigure(c, level); });
 
   detections_pub_ = nh.advertise<CameraDetections>("detections", 5);
+  confirmed_pub_ = nh.advertise<BlobArray>("confirmed_markers", 5);
   info_sub_ = nh.subscribe("camera_info", 2, &IdentificationNodelet::cameraInfoCallback, this);
   blobs_sub_ = nh.subscribe("blobs", 5, &IdentificationNodelet::blobsCallback, this);
 }
@@ -242,9 +247,14 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   }
   auto out = boost::make_shared<CameraDetections>();
   RejectionCounts rejections;
+  // Lazy: the confirmed markers only when Segmentation learns from them.
+  const bool confirm = confirmed_pub_.getNumSubscribers() > 0;
+  std::vector<int> confirmed;
+  const std::vector<Region> regions = fromBlobArray(*blobs);
   try {
-    const CameraFrameDetections d = identifier->identify(fromBlobArray(*blobs), blobs->header.stamp.toSec(),
-                                                         camera_id_, blobs->global_search, blobs->mosaic);
+    const CameraFrameDetections d =
+        identifier->identify(regions, blobs->header.stamp.toSec(), camera_id_, blobs->global_search,
+                             blobs->mosaic, confirm ? &confirmed : nullptr);
     toCameraDetections(d, blobs->header, *out);
     rejections = d.rejections;
   } catch (const std::exception& e) {
@@ -253,6 +263,19 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
     return;
   }
   detections_pub_.publish(out);  // never touched after this
+  if (confirm) {
+    // Every frame, with or without markers: Segmentation reads the carpet of each.
+    auto markers = boost::make_shared<BlobArray>();
+    markers->header = blobs->header;
+    markers->camera_id = blobs->camera_id;
+    markers->image_width = blobs->image_width;
+    markers->image_height = blobs->image_height;
+    markers->global_search = blobs->global_search;
+    markers->mosaic = blobs->mosaic;
+    markers->blobs.reserve(confirmed.size());
+    for (const int i : confirmed) markers->blobs.push_back(toBlob(regions[static_cast<std::size_t>(i)]));
+    confirmed_pub_.publish(markers);  // never touched after this
+  }
   const double ms = msSince(start);
   std::lock_guard<std::mutex> lock(mutex_);
   ++frames_;

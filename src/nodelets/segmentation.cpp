@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -34,6 +35,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_msgs/UInt64MultiArray.h>
+#include <std_srvs/Trigger.h>
 
 #include "soccer_vision/BlobArray.h"
 #include "soccer_vision/Calibrate.h"
@@ -46,6 +48,7 @@
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/image_message.h"
 #include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/segmentation/online_calibration.h"
 #include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/tracking/frame_step.h"
 
@@ -63,6 +66,21 @@ SegmentationParams toSegmentationParams(const SegmentationConfig& c) {
   p.regions.max_regions_per_class = c.max_regions_per_class;
   p.regions.coverage_weighted_moments = c.coverage_weighted_moments;
   return p;
+}
+
+// Segmented frames kept for the confirmed markers Identification sends back (a few frames
+// behind at most).
+constexpr std::size_t kRecentFrames = 8;
+
+// The region of `regions` a confirmed marker blob was made from (toBlob keeps colour and
+// centroid exactly); -1 when none is.
+int regionOf(const Blob& blob, const std::vector<Region>& regions) {
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const Region& r = regions[i];
+    if (static_cast<int>(r.color) == blob.color && r.cx == blob.cx && r.cy == blob.cy)
+      return static_cast<int>(i);
+  }
+  return -1;
 }
 
 // One line per class with samples: what calibration saw and decided.
@@ -104,19 +122,24 @@ class SegmentationNodelet : public nodelet::Nodelet {
                     const SegmentationModel& model);
   void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void dropFrame(std::uint64_t& counter);
+  void confirmedCallback(const BlobArrayConstPtr& markers);
+  bool resetOnlineCalibration(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  void stopLearning();
 
   std::shared_ptr<const SegmentationModel> model() {
     std::lock_guard<std::mutex> lock(model_mutex_);
     return model_;
   }
   void setModel(std::shared_ptr<const SegmentationModel> m, const std::string& source) {
-    {
-      std::lock_guard<std::mutex> lock(model_mutex_);
-      model_ = std::move(m);
-    }
+    swapModel(std::move(m));
     std::lock_guard<std::mutex> lock(state_mutex_);
     table_source_ = source;
     table_error_.clear();
+  }
+  // The same model source, refined or reset by online calibration.
+  void swapModel(std::shared_ptr<const SegmentationModel> m) {
+    std::lock_guard<std::mutex> lock(model_mutex_);
+    model_ = std::move(m);
   }
 
   // Parameters.
@@ -130,12 +153,31 @@ class SegmentationNodelet : public nodelet::Nodelet {
   image_transport::Publisher debug_pub_;
   ros::Subscriber windows_sub_;
   ros::Publisher blobs_pub_, address_pub_;
-  ros::ServiceServer calibrate_srv_;
+  ros::ServiceServer calibrate_srv_, reset_online_srv_;
   // ~calibrate runs on its own queue and thread: its cost (pixels, polygons) never delays a
   // frame of the nodelet's queue.
   ros::CallbackQueue calibrate_queue_;
   std::thread calibrate_thread_;
   std::atomic<bool> calibrate_stop_{false};
+
+  // Online self-calibration, on the calibrate thread: confirmed markers from Identification
+  // meet the frame they were found in (kept here while learning), and the learned model is
+  // swapped in like a calibrated one. The calibrated model stays its base.
+  struct RecentFrame {
+    ros::Time stamp;
+    sensor_msgs::ImageConstPtr image;  // shared, never modified
+    PixelLayout layout = PixelLayout::Bgr;
+    BlockOffsets offsets;
+    std::vector<Region> regions;
+    double sharpen = 0;
+  };
+  ros::NodeHandle learn_nh_;  // on calibrate_queue_
+  ros::Subscriber confirmed_sub_;
+  std::mutex recent_mutex_;
+  std::deque<RecentFrame> recent_;
+  std::mutex learn_mutex_;  // learning_
+  std::unique_ptr<OnlineCalibration> learning_;
+  std::atomic<bool> learning_enabled_{false};
 
   using ReconfigureServer = dynamic_reconfigure::Server<SegmentationConfig>;
   std::unique_ptr<ReconfigureServer> reconfigure_server_;
@@ -156,6 +198,7 @@ class SegmentationNodelet : public nodelet::Nodelet {
   int frame_step_setting_ = 1;
   bool params_changed_ = false;
   double threshold_lab_ = 20.0, threshold_h_ = 15.0;
+  OnlineCalibrationParams online_params_;
   std::string color_table_path_;
 
   // Latest received frame (for ~calibrate) and latest search windows.
@@ -188,12 +231,18 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::uint64_t window_dropped_ = 0;
   std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0, skipped_by_frame_step_ = 0;
   std::uint64_t calibrations_refused_ = 0;
+  OnlineCalibrationStatus online_status_;
+  std::uint64_t confirmed_unmatched_ = 0;  // confirmed markers whose frame was no longer kept
+  std::uint64_t online_errors_ = 0;
+  std::string online_error_;
   std::string last_bad_encoding_;
 };
 
 SegmentationNodelet::~SegmentationNodelet() {
   diag_timer_.stop();
   calibrate_srv_.shutdown();
+  reset_online_srv_.shutdown();
+  confirmed_sub_.shutdown();
   calibrate_stop_ = true;
   if (calibrate_thread_.joinable()) calibrate_thread_.join();
   {
@@ -221,6 +270,8 @@ void SegmentationNodelet::onInit() {
   queue_size = std::max(1, queue_size);
 
   loader_ = std::thread(&SegmentationNodelet::loaderLoop, this);
+  learn_nh_ = nh;
+  learn_nh_.setCallbackQueue(&calibrate_queue_);
 
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
   updater_->setHardwareID("camera " + std::to_string(camera_id_));
@@ -248,6 +299,8 @@ void SegmentationNodelet::onInit() {
   ros::NodeHandle calibrate_nh(pnh);
   calibrate_nh.setCallbackQueue(&calibrate_queue_);
   calibrate_srv_ = calibrate_nh.advertiseService("calibrate", &SegmentationNodelet::calibrate, this);
+  reset_online_srv_ = calibrate_nh.advertiseService("reset_online_calibration",
+                                                    &SegmentationNodelet::resetOnlineCalibration, this);
   calibrate_thread_ = std::thread(&SegmentationNodelet::calibrateLoop, this);
   image_sub_ =
       it_->subscribe("image_raw", static_cast<uint32_t>(queue_size), &SegmentationNodelet::imageCallback,
@@ -267,7 +320,19 @@ void SegmentationNodelet::reconfigure(SegmentationConfig& config, uint32_t /*lev
     threshold_lab_ = config.threshold_lab;
     threshold_h_ = config.threshold_h;
     color_table_path_ = config.color_table;
+    online_params_.enabled = config.online_calibration;
+    online_params_.update_period = config.online_update_period;
   }
+  // Learning subscribes to Identification's confirmed markers (which it sends only then);
+  // switched off, it returns to the calibrated model.
+  if (config.online_calibration && !confirmed_sub_) {
+    confirmed_sub_ =
+        learn_nh_.subscribe("confirmed_markers", 5, &SegmentationNodelet::confirmedCallback, this);
+  } else if (!config.online_calibration && confirmed_sub_) {
+    confirmed_sub_.shutdown();
+    stopLearning();
+  }
+  learning_enabled_ = config.online_calibration;
   // A new path, or the same one again after a failed load (the file may be fixed now).
   if (config.color_table != requested_path_ || last_load_failed_) {
     requested_path_ = config.color_table;
@@ -435,6 +500,13 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     return;
   }
 
+  if (learning_enabled_) {
+    std::lock_guard<std::mutex> lock(recent_mutex_);
+    recent_.push_back(
+        {image->header.stamp, image, *layout, result_.offsets, result_.regions, segmenter_.params().sharpen});
+    while (recent_.size() > kRecentFrames) recent_.pop_front();
+  }
+
   auto blobs = boost::make_shared<BlobArray>();
   toBlobArray(result_, image->header, camera_id_, static_cast<int>(image->width),
               static_cast<int>(image->height), isBayer(*layout), *blobs);
@@ -472,6 +544,93 @@ void SegmentationNodelet::publishDebug(const sensor_msgs::ImageConstPtr& image, 
   } catch (const std::exception& e) {
     NODELET_ERROR_THROTTLE(5.0, "debug/classification: %s", e.what());
   }
+}
+
+void SegmentationNodelet::confirmedCallback(const BlobArrayConstPtr& markers) {
+  if (!learning_enabled_ || markers->camera_id != camera_id_) return;
+  RecentFrame frame;
+  bool found = false;
+  {
+    std::lock_guard<std::mutex> lock(recent_mutex_);
+    for (const RecentFrame& f : recent_) {
+      if (f.stamp == markers->header.stamp) {
+        frame = f;
+        found = true;
+        break;
+      }
+    }
+  }
+  if (!found) {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    ++confirmed_unmatched_;
+    return;
+  }
+  std::vector<int> confirmed;
+  for (const Blob& b : markers->blobs) {
+    const int i = regionOf(b, frame.regions);
+    if (i >= 0) confirmed.push_back(i);
+  }
+  OnlineCalibrationParams params;
+  {
+    std::lock_guard<std::mutex> lock(config_mutex_);
+    params = online_params_;
+  }
+  const std::shared_ptr<const SegmentationModel> current = model();
+  if (!current) return;
+  std::lock_guard<std::mutex> lock(learn_mutex_);
+  try {
+    // A table loaded or calibrated since: learning starts again on it.
+    if (!learning_ || learning_->model() != current)
+      learning_ = std::make_unique<OnlineCalibration>(current, params);
+    learning_->setParams(params);
+    const double stamp = frame.stamp.toSec();
+    learning_->observe(frame.image ? cv_bridge::toCvShare(frame.image)->image : cv::Mat(), frame.layout,
+                       frame.offsets, frame.sharpen, frame.regions, confirmed, stamp);
+    // Costly (the lookup) but here, off the frame path; swapped in as a whole.
+    if (auto learned = learning_->update(stamp)) swapModel(std::move(learned));
+    std::lock_guard<std::mutex> state(state_mutex_);
+    online_status_ = learning_->status();
+  } catch (const std::exception& e) {
+    NODELET_ERROR_THROTTLE(5.0, "online calibration: %s; frame not learned from", e.what());
+    std::lock_guard<std::mutex> state(state_mutex_);
+    ++online_errors_;
+    online_error_ = e.what();
+  }
+}
+
+void SegmentationNodelet::stopLearning() {
+  std::lock_guard<std::mutex> lock(learn_mutex_);
+  if (learning_ && model() == learning_->model()) swapModel(learning_->base());
+  learning_.reset();
+  {
+    std::lock_guard<std::mutex> recent(recent_mutex_);
+    recent_.clear();
+  }
+  std::lock_guard<std::mutex> state(state_mutex_);
+  online_status_ = OnlineCalibrationStatus{};
+}
+
+bool SegmentationNodelet::resetOnlineCalibration(std_srvs::Trigger::Request& /*req*/,
+                                                 std_srvs::Trigger::Response& res) {
+  std::lock_guard<std::mutex> lock(learn_mutex_);
+  if (!learning_) {
+    res.success = true;
+    res.message = learning_enabled_ ? "nothing learned yet" : "online_calibration is off: nothing learned";
+    return true;
+  }
+  const std::uint32_t cells = learning_->status().learnedTotal();
+  // Only when the model in use is the learned one (a table loaded since is kept).
+  if (model() == learning_->model()) swapModel(learning_->base());
+  learning_->reset();
+  {
+    std::lock_guard<std::mutex> state(state_mutex_);
+    online_status_ = learning_->status();
+  }
+  res.success = true;
+  res.message = "back to the calibrated table: " + std::to_string(cells) +
+                " learned cells and the learned light forgotten";
+  NODELET_INFO("~reset_online_calibration: %s", res.message.c_str());
+  return true;
 }
 
 void SegmentationNodelet::calibrateLoop() {
@@ -629,6 +788,30 @@ void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrappe
   stat.add("dropped: segmentation error", dropped_error_);
   stat.add("illumination reference size mismatches", illumination_mismatch_);
   stat.add("~calibrate requests refused", calibrations_refused_);
+  stat.add("online calibration", learning_enabled_ ? "on" : "off");
+  if (learning_enabled_) {
+    const OnlineCalibrationStatus& o = online_status_;
+    std::string per_class;
+    for (int c = 1; c < kNumColorClasses; ++c) {
+      if (o.learned_cells[c] == 0) continue;
+      per_class += (per_class.empty() ? "" : ", ") + std::string(colorClassName(static_cast<ColorClass>(c))) +
+                   " " + std::to_string(o.learned_cells[c]);
+    }
+    stat.add("online: cells learned",
+             std::to_string(o.learnedTotal()) + (per_class.empty() ? "" : " (" + per_class + ")"));
+    stat.add("online: cells added / given back",
+             std::to_string(o.cells_added) + " / " + std::to_string(o.cells_removed));
+    stat.add("online: cells vetoed by the background (last update)", o.vetoed_cells);
+    stat.add("online: cells beyond the calibrated colours (last update)", o.outside_envelope);
+    stat.add("online: light moved from calibration [%]", 100.0 * o.level_deviation);
+    stat.add("online: updates", o.updates);
+    stat.add("online: updates that changed the model", o.models);
+    stat.add("online: frames / confirmed markers learned from",
+             std::to_string(o.frames) + " / " + std::to_string(o.markers));
+    stat.add("online: confirmed markers too late (frame no longer kept)", confirmed_unmatched_);
+    stat.add("online: errors", online_errors_);
+    if (!online_error_.empty()) stat.add("online: last error", online_error_);
+  }
   window_start_ = now;
   window_frames_ = 0;
   window_ms_sum_ = window_ms_max_ = 0;

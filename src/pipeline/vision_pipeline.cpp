@@ -26,6 +26,7 @@ void validate(const VisionPipelineParams& p) {
   if (p.frame_step < 1) throw std::invalid_argument("frame_step must be >= 1");
   validate(p.search);
   validate(p.tracker);
+  p.online_calibration.validate();
 }
 
 namespace {
@@ -67,8 +68,14 @@ VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const Patter
                                   std::to_string(grid.width) + "x" + std::to_string(grid.height) +
                                   "): calibrate the table at " + std::to_string(w) + "x" + std::to_string(h));
     }
-    state_.emplace_back(FrameIdentifier(c.model, patterns, field, params_.identification), params_);
+    state_.emplace_back(FrameIdentifier(c.model, patterns, field, params_.identification), params_,
+                        c.segmentation);
   }
+}
+
+const OnlineCalibration* VisionPipeline::onlineCalibration(int camera_id) const {
+  const PipelineCamera* c = camera(camera_id);
+  return c ? &state_[static_cast<std::size_t>(c - cameras_.data())].learning : nullptr;
 }
 
 const PipelineCamera* VisionPipeline::camera(int camera_id) const {
@@ -85,6 +92,7 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   const PipelineCamera& camera = *found;
   CameraState& state = state_[index];
 
+  PipelineCamera& camera_slot = cameras_[index];
   PipelineFrame frame;
   frame.camera_id = camera_id;
   frame.stamp = stamp;
@@ -104,8 +112,9 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_);
   frame.global_search = segmented_.global_search;
   frame.windows = segmented_.windows.size();
+  const bool learning = params_.online_calibration.enabled;
   frame.detections = state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search,
-                                               isBayer(camera.layout));
+                                               isBayer(camera.layout), learning ? &state.confirmed : nullptr);
   const auto t1 = Clock::now();
 
   frame.prediction = tracker_.predictions(stamp);
@@ -118,6 +127,12 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   frame.output = tracker_.output(stamp);
   state.next = state.planner.plan(tracker_, &camera.model, stamp);
   const auto t2 = Clock::now();
+  // Outside the timed stages, as the nodelets learn on their own thread.
+  if (learning) {
+    state.learning.observe(image, camera.layout, segmented_.offsets, params_.segmentation.sharpen,
+                           segmented_.regions, state.confirmed, stamp);
+    if (auto learned = state.learning.update(stamp)) camera_slot.segmentation = std::move(learned);
+  }
 
   const SegmentationTimings& s = segmented_.timings;
   frame.times.preprocessing = s.illumination_ms;

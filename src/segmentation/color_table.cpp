@@ -605,6 +605,14 @@ ColorTable ColorTable::withClassesFrom(const ColorTable& other,
   return table;
 }
 
+ColorTable ColorTable::withCells(const std::vector<std::pair<std::size_t, ColorClass>>& cells) const {
+  ColorTable table = *this;
+  for (const auto& [index, c] : cells) table.cells_.at(index) = c;
+  for (auto& s : table.stats_.classes) s.cells_assigned = 0;
+  for (const ColorClass c : table.cells_) ++table.stats_.classes[static_cast<int>(c)].cells_assigned;
+  return table;
+}
+
 ColorTable ColorTable::withIlluminationReference(cv::Mat reference) const {
   if (!reference.empty() &&
       (reference.type() != CV_32FC1 || reference.dims != 2 || !cv::checkRange(reference))) {

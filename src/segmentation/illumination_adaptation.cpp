@@ -300,7 +300,19 @@ cv::Mat IlluminationAdaptation::currentLevels(const cv::Mat& image, PixelLayout 
     }
     if (!ratios.empty()) global = std::clamp<double>(median(ratios), 1.0 / 16, 16.0);
   }
-  return blockLightLevels(image, layout, levels_ * global, sample_step, selected);
+  return blockLightLevels(image, layout, expectedLevels() * global, sample_step, selected);
+}
+
+IlluminationAdaptation IlluminationAdaptation::withExpectedLevels(const cv::Mat& expected) const {
+  if (!expected.empty() && (expected.type() != CV_32FC1 || expected.size() != levels_.size() ||
+                            !cv::checkRange(expected, true, nullptr, 1e-3, 1e6))) {
+    throw std::invalid_argument(
+        "illumination: expected levels must be a CV_32FC1 of finite positive levels of the reference "
+        "levels' size");
+  }
+  IlluminationAdaptation out = *this;
+  out.expected_ = expected.empty() ? cv::Mat() : expected.clone();
+  return out;
 }
 
 BlockOffsets IlluminationAdaptation::offsets(const cv::Mat& image, PixelLayout layout, double k,

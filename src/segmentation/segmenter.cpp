@@ -99,13 +99,13 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   // only what the caller asked for with no windows at all.
   out.global_search = windows.empty();
 
-  const BlockOffsets offsets =
+  out.offsets =
       model.illumination.offsets(image, layout, params_.illumination_k, params_.illumination_sample_step,
                                  params_.max_illumination_offset, &out.illumination_size_mismatch,
                                  out.global_search ? nullptr : &out.windows);
   out.timings.illumination_ms = msSince(start);
 
-  const FrameClassifier frame(*model.classifier, image, layout, offsets, params_.sharpen);
+  const FrameClassifier frame(*model.classifier, image, layout, out.offsets, params_.sharpen);
   RegionStatistics stats;
   out.regions.clear();
   if (out.global_search || !label_windows.empty()) {

@@ -14,6 +14,9 @@ namespace soccer_vision {
 struct IdentificationParams {
   RobotIdentificationParams robots;
   BallDetectionParams balls;
+  // Robots reported with at least this confidence have their marker regions confirmed:
+  // online self-calibration learns from them (a robot lacking a marker has at most 0.5).
+  double confirm_confidence = 0.7;
 };
 
 class FrameIdentifier {
@@ -25,8 +28,11 @@ class FrameIdentifier {
   const CameraModel& camera() const { return robots_.camera(); }
 
   // `mosaic`: regions found on a Bayer mosaic's quads (see RobotIdentifier::identify).
+  // `confirmed` (optional): set to the indices of the regions that belong to robots
+  // reported with at least confirm_confidence.
   CameraFrameDetections identify(const std::vector<Region>& regions, double stamp = 0, int camera_id = 0,
-                                 bool global_search = true, bool mosaic = false) const;
+                                 bool global_search = true, bool mosaic = false,
+                                 std::vector<int>* confirmed = nullptr) const;
 
  private:
   IdentificationParams params_;

@@ -60,8 +60,9 @@ struct RobotIdentificationParams {
 };
 
 struct RobotIdentificationResult {
-  std::vector<RobotDetection> robots;  // by decreasing confidence
-  std::vector<bool> region_used;       // per input region: part of a reported robot
+  std::vector<RobotDetection> robots;     // by decreasing confidence
+  std::vector<bool> region_used;          // per input region: part of a reported robot
+  std::vector<double> region_confidence;  // per input region: that robot's confidence (0: none)
   // Team-colour regions that ended in no robot, by the furthest check their best
   // hypothesis passed (Unpaired: none formed; Conflict: a better robot took its regions).
   RejectionCounts rejections;

@@ -22,6 +22,7 @@
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/identification/frame_identification.h"
+#include "soccer_vision/segmentation/online_calibration.h"
 #include "soccer_vision/segmentation/segmenter.h"
 #include "soccer_vision/tracking/frame_step.h"
 #include "soccer_vision/tracking/search_planner.h"
@@ -35,6 +36,9 @@ struct VisionPipelineParams {
   SegmentationParams segmentation;
   IdentificationParams identification;
   TrackerParams tracker;
+  // Per camera, learned from its confirmed markers and carpet after each frame (off by
+  // default); its updates replace the camera's segmentation model.
+  OnlineCalibrationParams online_calibration;
 };
 
 void validate(const VisionPipelineParams& p);  // throws std::invalid_argument
@@ -88,14 +92,22 @@ class VisionPipeline {
   const VisionPipelineParams& params() const { return params_; }
   const std::vector<PipelineCamera>& cameras() const { return cameras_; }
   const PipelineCamera* camera(int camera_id) const;  // nullptr for an unknown camera
+  // The online self-calibration of a camera (nullptr for an unknown camera).
+  const OnlineCalibration* onlineCalibration(int camera_id) const;
 
  private:
   struct CameraState {
-    CameraState(FrameIdentifier id, const VisionPipelineParams& p)
-        : identifier(std::move(id)), frame_step(p.frame_step), planner(p.search) {}
+    CameraState(FrameIdentifier id, const VisionPipelineParams& p,
+                std::shared_ptr<const SegmentationModel> model)
+        : identifier(std::move(id)),
+          frame_step(p.frame_step),
+          planner(p.search),
+          learning(std::move(model), p.online_calibration) {}
     FrameIdentifier identifier;
     FrameStep frame_step;
     SearchPlanner planner;
+    OnlineCalibration learning;
+    std::vector<int> confirmed;      // scratch: the regions identification confirmed
     std::optional<SearchPlan> next;  // for the next processed frame; none before the first
   };
 

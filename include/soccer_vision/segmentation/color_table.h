@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -202,6 +203,10 @@ class ColorTable {
   // recalibration of a few colours keeps the colours it was given no samples for. Throws
   // std::invalid_argument when the tables' quantisation differs.
   ColorTable withClassesFrom(const ColorTable& other, const std::vector<ColorClass>& classes) const;
+  // This table with each cell of `cells` (index as in cells(), class) set to that class,
+  // cells_assigned recounted: the cells online self-calibration learned
+  // (online_calibration.h). Throws std::out_of_range for an index beyond cells().
+  ColorTable withCells(const std::vector<std::pair<std::size_t, ColorClass>>& cells) const;
 
   // `.svct` file: magic, format version, file size, parameters, statistics, cells,
   // illumination reference and levels, CRC-32. Version 2 files (no v_margin, no levels)

@@ -76,6 +76,13 @@ class IlluminationAdaptation {
   bool hasReference() const { return !reference_.empty(); }
   const cv::Mat& referenceLevels() const { return levels_; }
   bool normalizes() const { return !levels_.empty(); }
+  // The centre of the band in which each block's carpet is read (normalised mode), in the
+  // reference levels' units: the reference levels unless learned (OnlineCalibration).
+  const cv::Mat& expectedLevels() const { return expected_.empty() ? levels_ : expected_; }
+  // This adaptation with those expected levels (copied; empty: the reference levels). The
+  // gains still bring V to the reference's mean level. Throws std::invalid_argument unless
+  // `expected` is empty or a CV_32FC1 of finite positive values of the reference levels' size.
+  IlluminationAdaptation withExpectedLevels(const cv::Mat& expected) const;
 
   // Gains round(256 * L_mean / level(b)) per block (L_mean: mean of the reference levels),
   // clamped to [kUnitGain / 8, 8 * kUnitGain]: they bring V under these levels to V under
@@ -109,6 +116,7 @@ class IlluminationAdaptation {
 
   cv::Mat reference_;
   cv::Mat levels_;
+  cv::Mat expected_;       // learned band centres; empty: levels_
   double mean_level_ = 0;  // of levels_: L_mean of gainsFor, once per reference
 };
 

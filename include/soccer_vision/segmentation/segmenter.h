@@ -57,6 +57,7 @@ struct SegmentationResult {
   std::vector<cv::Rect> windows;  // image pixels, as used (clipped to the image)
   std::array<std::uint32_t, kNumColorClasses> cap_hits{};
   bool illumination_size_mismatch = false;  // reference made for another image size
+  BlockOffsets offsets;                     // the illumination adjustment the frame was classified with
   std::uint32_t grid_points = 0;            // label pixels looked up by the grid scan
   std::uint32_t classified_pixels = 0;      // label pixels classified around the hits
   SegmentationTimings timings;

@@ -86,7 +86,7 @@ struct Options {
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
   int calibration_frame = 0;  // the bag frame --samples / samples.yaml are on
-  bool windows = true, table2 = true, sweep = false, results_only = false;
+  bool windows = true, table2 = true, sweep = false, results_only = false, online_calibration = false;
 };
 
 // The options (docs/tools.md); which go together is checked by combinationProblem.
@@ -132,6 +132,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_flag_callback(
       "--skip-table2", [&o] { o.table2 = false; }, "skip the run without search windows");
   app.add_flag("--sweep", o.sweep, "also run Table I: frame step 1-4 x window side 50-400 px");
+  app.add_flag("--online-calibration", o.online_calibration,
+               "refine each camera's colour table and light from its confirmed markers while running");
   app.add_flag("--results-only", o.results_only, "score --results against the truth, without running");
 }
 
@@ -303,8 +305,9 @@ struct RunStats {
   sv::MeasuredRateCounter measured;
   std::int64_t images = 0, processed = 0, global = 0, windowed = 0;
   std::vector<double> preprocessing, classification, recognition, tracking,
-      total;           // [ms] per processed frame
-  double seconds = 0;  // pipeline time (bag reading excluded)
+      total;                        // [ms] per processed frame
+  double seconds = 0;               // pipeline time (bag reading excluded)
+  std::uint32_t learned_cells = 0;  // online calibration: cells learned at the end, all cameras
 };
 
 struct Setup {
@@ -363,6 +366,8 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
         if (!f.tracker_reset) s.evaluation.addPrediction(*truth, f.prediction);
       },
       &setup.problems);
+  for (const auto& c : setup.cameras)
+    s.learned_cells += pipeline.onlineCalibration(c.id)->status().learnedTotal();
   return s;
 }
 
@@ -590,6 +595,7 @@ int evaluateBag(const Options& o) {
   params.frame_step = o.frame_step;
   params.search.windows.side_px = o.window_side;
   params.search.search_windows = o.windows;
+  params.online_calibration.enabled = o.online_calibration;
   for (std::size_t i = 0; i < o.measurement_offsets.size(); ++i) {
     if (o.measurement_offsets.size() == 1)
       params.tracker.measurement_offset = o.measurement_offsets[i];
@@ -623,6 +629,8 @@ int evaluateBag(const Options& o) {
   report["frame_step"] = o.frame_step;
   report["window_side"] = o.window_side;
   report["search_windows"] = o.windows;
+  report["online_calibration"] = o.online_calibration;
+  if (o.online_calibration) report["learned_cells"] = main.learned_cells;
   report["frames_processed"] = main.processed;
   report["global_search_frames"] = main.global;
   report["window_frames"] = main.windowed;

@@ -115,8 +115,11 @@ std::string markdownReport(const json& report, const std::string& title) {
      << report["encoding"].get<std::string>() << ", pattern " << report["pattern"].get<std::string>()
      << "; frame step " << report["frame_step"].get<int>()
      << ", windows R = " << report["window_side"].get<int>() << " px"
-     << (report["search_windows"].get<bool>() ? "" : " (off)") << "; "
-     << report["frames_processed"].get<long long>() << " frames processed ("
+     << (report["search_windows"].get<bool>() ? "" : " (off)")
+     << (report.value("online_calibration", false)
+             ? "; online calibration (" + std::to_string(report.value("learned_cells", 0)) + " cells learned)"
+             : "")
+     << "; " << report["frames_processed"].get<long long>() << " frames processed ("
      << report["global_search_frames"].get<long long>() << " searched whole).\n\n";
 
   const json& r = report["robots"];
