@@ -52,6 +52,10 @@ class OnlineCalibrationLive(unittest.TestCase):
         self.assertGreater(frames, 60, learned)
         self.assertGreater(markers, frames, learned)  # robots of 2 markers each in view
         self.assertEqual(learned.get("online: errors"), "0", learned)
+        # The confirmed markers meet their frame: at most a tenth arrive after it left the buffer.
+        late = int(learned["online: confirmed markers too late (frame no longer kept)"])
+        self.assertLess(late, frames // 10, learned)
+        print("online calibration live: %s" % learned, flush=True)
 
         rospy.wait_for_service(SEGMENTATION + "/reset_online_calibration", timeout=10)
         reply = rospy.ServiceProxy(SEGMENTATION + "/reset_online_calibration", Trigger)()
