@@ -201,37 +201,43 @@ void print(const char* what, const Outcome& o) {
       static_cast<unsigned long>(o.status.marker_votes), o.status.vetoed_cells, o.status.outside_envelope);
 }
 
+struct Compared {
+  Outcome fixed, learned;
+};
+
+// 5 s of rand_uneven_lamps at 15 fps, the light times `factor` after the first second, with
+// the calibrated table and with learning.
+Compared lightStep(double factor) {
+  const Hall hall(preset("rand_uneven_lamps"), 5.0);
+  ScenarioConfig after = hall.scenario();
+  after.lighting.brightness *= factor;
+  Compared c{hall.run(hall.scenario(), after, 1.0, false, 5.0, 15.0),
+             hall.run(hall.scenario(), after, 1.0, true, 5.0, 15.0)};
+  const std::string what = "light x" + std::to_string(factor).substr(0, 3);
+  print((what + ", calibrated table").c_str(), c.fixed);
+  print((what + ", learning").c_str(), c.learned);
+  return c;
+}
+
 }  // namespace
 
 // The light falls by 30 % one second into the recording (the calibration frame is of the
 // light before). Learned: the cells the darker markers fall into and the light's shape.
 TEST(OnlineCalibration, RecoversFromALightStep) {
-  const Hall hall(preset("rand_uneven_lamps"), 5.0);
-  ScenarioConfig after = hall.scenario();
-  after.lighting.brightness *= 0.7;
-  const Outcome fixed = hall.run(hall.scenario(), after, 1.0, false, 5.0, 15.0);
-  const Outcome learned = hall.run(hall.scenario(), after, 1.0, true, 5.0, 15.0);
-  print("light x0.7, calibrated table", fixed);
-  print("light x0.7, learning", learned);
-  EXPECT_GE(learned.last.rate(), 0.99);
-  EXPECT_GE(learned.last.rate(), fixed.last.rate());
-  EXPECT_GE(learned.last.accuracy.markers(), fixed.last.accuracy.markers());
-  EXPECT_LE(learned.last.accuracy.falsePositives(), std::max(1e-4, fixed.last.accuracy.falsePositives()));
+  const Compared c = lightStep(0.7);
+  EXPECT_GE(c.learned.last.rate(), 0.99);
+  EXPECT_GE(c.learned.last.rate(), c.fixed.last.rate());
+  EXPECT_GE(c.learned.last.accuracy.markers(), c.fixed.last.accuracy.markers());
+  EXPECT_LE(c.learned.last.accuracy.falsePositives(), std::max(1e-4, c.fixed.last.accuracy.falsePositives()));
 }
 
 // 30 % more light: the camera clips the bright markers, which no table learnt from the
 // markers still seen brings back (docs/segmentation.md); what is checked is that learning
 // adds no false colour. The figures are printed.
 TEST(OnlineCalibration, AddsNoFalseColourWhenTheLightRises) {
-  const Hall hall(preset("rand_uneven_lamps"), 5.0);
-  ScenarioConfig after = hall.scenario();
-  after.lighting.brightness *= 1.3;
-  const Outcome fixed = hall.run(hall.scenario(), after, 1.0, false, 5.0, 15.0);
-  const Outcome learned = hall.run(hall.scenario(), after, 1.0, true, 5.0, 15.0);
-  print("light x1.3, calibrated table", fixed);
-  print("light x1.3, learning", learned);
-  EXPECT_LE(learned.last.accuracy.falsePositives(), std::max(1e-4, fixed.last.accuracy.falsePositives()));
-  EXPECT_EQ(learned.status.cells_removed, 0u);
+  const Compared c = lightStep(1.3);
+  EXPECT_LE(c.learned.last.accuracy.falsePositives(), std::max(1e-4, c.fixed.last.accuracy.falsePositives()));
+  EXPECT_EQ(c.learned.status.cells_removed, 0u);
 }
 
 TEST(OnlineCalibration, RecoversWhenALampGoesOut) {

@@ -195,7 +195,9 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
         for cls in painted:
             self.click("class-" + cls)
             for r in sorted(by_class[cls], key=lambda r: -r["area"])[:3]:
-                self.stroke("paint-canvas", [(r["cx"] - 1, r["cy"]), (r["cx"] + 1, r["cy"] + 0.5)])
+                # Across the middle half of the marker, as a user strokes it.
+                half = max(1.0, 0.5 * math.sqrt(r["area"] / math.pi))
+                self.stroke("paint-canvas", [(r["cx"] - half, r["cy"]), (r["cx"] + half, r["cy"] + 0.5)])
         # Carpet: strokes far from every region.
         self.click("class-carpet")
         w, h = frozen["width"], frozen["height"]
