@@ -89,10 +89,9 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   const PipelineCamera* found = camera(camera_id);
   if (!found) throw std::invalid_argument("VisionPipeline: unknown camera " + std::to_string(camera_id));
   const std::size_t index = static_cast<std::size_t>(found - cameras_.data());
-  const PipelineCamera& camera = *found;
+  PipelineCamera& camera = cameras_[index];  // its segmentation model is replaced by what it learns
   CameraState& state = state_[index];
 
-  PipelineCamera& camera_slot = cameras_[index];
   PipelineFrame frame;
   frame.camera_id = camera_id;
   frame.stamp = stamp;
@@ -131,7 +130,7 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   if (learning) {
     state.learning.observe(image, camera.layout, segmented_.offsets, params_.segmentation.sharpen,
                            segmented_.regions, state.confirmed, stamp);
-    if (auto learned = state.learning.update(stamp)) camera_slot.segmentation = std::move(learned);
+    if (auto learned = state.learning.update(stamp)) camera.segmentation = std::move(learned);
   }
 
   const SegmentationTimings& s = segmented_.timings;

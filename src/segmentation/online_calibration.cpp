@@ -31,6 +31,19 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("online calibration: " + what);
 }
 
+// A region as a disc in label pixels (a Bayer quad (x, y) has its centre at image pixel
+// 2x + 0.5): its centre and the radius of a disc of its second moments (mu20 = mu02 = r² / 4).
+struct LabelDisc {
+  double cx, cy, r;
+  bool finite() const { return std::isfinite(cx) && std::isfinite(cy) && std::isfinite(r); }
+};
+LabelDisc labelDisc(const Region& region, PixelLayout layout) {
+  const bool quads = isBayer(layout);
+  const double scale = quads ? 0.5 : 1.0;
+  return {(quads ? region.cx - 0.5 : region.cx) * scale, (quads ? region.cy - 0.5 : region.cy) * scale,
+          std::sqrt(2.0 * std::max(0.0, region.mu20 + region.mu02)) * scale};
+}
+
 double circularDifference(double a, double b) {
   double d = std::fmod(a - b, 360.0);
   if (d > 180.0) d -= 360.0;
@@ -88,21 +101,14 @@ void OnlineCalibration::reset() {
 std::size_t OnlineCalibration::cellOf(const cv::Vec3b& bgr, int adapted_v) const {
   const ColorTable& table = base_->classifier->table();
   const Hsv hsv = bgrToHsv(bgr[0], bgr[1], bgr[2]);
-  const ColorTableParams& q = table.params();
-  return (static_cast<std::size_t>(table.hBin(hsv.h)) * q.s_bins + table.sBin(hsv.s)) * q.v_bins +
-         table.vBin(adapted_v);
+  return table.cellIndex(table.hBin(hsv.h), table.sBin(hsv.s), table.vBin(adapted_v));
 }
 
 void OnlineCalibration::voteMarker(const FrameClassifier& frame, const Region& region, PixelLayout layout) {
   if (!isMarkerColor(region.color)) return;
-  // Image pixels -> label pixels (a Bayer quad (x, y) has its centre at 2x + 0.5).
-  const double scale = isBayer(layout) ? 0.5 : 1.0;
-  const double cx = isBayer(layout) ? (region.cx - 0.5) * scale : region.cx;
-  const double cy = isBayer(layout) ? (region.cy - 0.5) * scale : region.cy;
-  const double second = std::max(0.0, region.mu20 + region.mu02) * scale * scale;
-  // A disc of radius r has mu20 = mu02 = r² / 4.
-  const double r = params_.interior * std::sqrt(2.0 * second);
-  if (!std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(r)) return;
+  const LabelDisc disc = labelDisc(region, layout);
+  if (!disc.finite()) return;
+  const double cx = disc.cx, cy = disc.cy, r = params_.interior * disc.r;
   const cv::Size size = frame.labelSize();
   const int x0 = std::max(0, static_cast<int>(std::floor(cx - r)));
   const int x1 = std::min(size.width - 1, static_cast<int>(std::ceil(cx + r)));
@@ -133,13 +139,10 @@ void OnlineCalibration::voteBackground(const FrameClassifier& frame, const std::
   const cv::Size size = frame.labelSize();
   const int cols = (size.width + stride - 1) / stride, rows = (size.height + stride - 1) / stride;
   cv::Mat1b excluded(rows, cols, std::uint8_t(0));
-  const double scale = isBayer(layout) ? 0.5 : 1.0;
   for (const Region& region : regions) {
-    const double cx = (isBayer(layout) ? region.cx - 0.5 : region.cx) * scale;
-    const double cy = (isBayer(layout) ? region.cy - 0.5 : region.cy) * scale;
-    const double r =
-        kExclusionRadii * std::sqrt(2.0 * std::max(0.0, region.mu20 + region.mu02)) * scale + 1.0;
-    if (!std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(r)) continue;
+    const LabelDisc disc = labelDisc(region, layout);
+    if (!disc.finite()) continue;
+    const double cx = disc.cx, cy = disc.cy, r = kExclusionRadii * disc.r + 1.0;
     const int gx0 = std::max(0, static_cast<int>(std::floor((cx - r) / stride)));
     const int gx1 = std::min(cols - 1, static_cast<int>(std::ceil((cx + r) / stride)));
     const int gy0 = std::max(0, static_cast<int>(std::floor((cy - r) / stride)));

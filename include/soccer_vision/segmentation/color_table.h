@@ -174,8 +174,10 @@ class ColorTable {
   int hBin(double h) const;
   int sBin(double s) const;
   int vBin(double v) const;
-  ColorClass cell(int h_bin, int s_bin, int v_bin) const {
-    return cells_[(static_cast<std::size_t>(h_bin) * params_.s_bins + s_bin) * params_.v_bins + v_bin];
+  ColorClass cell(int h_bin, int s_bin, int v_bin) const { return cells_[cellIndex(h_bin, s_bin, v_bin)]; }
+  // Index of a cell in cells(): (h_bin * s_bins + s_bin) * v_bins + v_bin.
+  std::size_t cellIndex(int h_bin, int s_bin, int v_bin) const {
+    return (static_cast<std::size_t>(h_bin) * params_.s_bins + s_bin) * params_.v_bins + v_bin;
   }
 
   const ColorTableParams& params() const { return params_; }
