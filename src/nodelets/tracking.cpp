@@ -187,6 +187,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   tracker_params_.ball_lost_timeout = config.ball_lost_timeout;
   tracker_params_.min_confidence = config.min_confidence;
   tracker_params_.time.max_forward_jump = config.max_forward_jump;
+  tracker_params_.time.late_tolerance = config.late_tolerance;
   tracker_params_.measurement_offset = config.measurement_offset;
   tracker_params_.max_coast_uncertainty = config.max_coast_uncertainty;
   try {

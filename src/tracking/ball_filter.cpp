@@ -58,34 +58,44 @@ void BallFilter::predict(double dt) {
   P_ = P;
 }
 
-double BallFilter::distance2(double x, double y) const {
+void BallFilter::observation(double lag, Eigen::Matrix<double, 2, 4>& H, Eigen::Matrix2d& R) const {
+  lag = std::max(0.0, lag);
+  H = laggedPositionObservation<2>(lag);
+  const Eigen::Vector2d variance = Eigen::Vector2d::Constant(p_.sigma_xy * p_.sigma_xy) +
+                                   lagNoiseVariance<2>(Eigen::Vector2d::Constant(p_.accel_noise), lag);
+  R = variance.asDiagonal();
+}
+
+double BallFilter::distance2(double x, double y, double lag) const {
   const Eigen::Vector2d innovation(x - x_(0), y - x_(1));
-  const Eigen::Matrix2d S =
-      P_.topLeftCorner<2, 2>() + p_.sigma_xy * p_.sigma_xy * Eigen::Matrix2d::Identity();
+  Eigen::Matrix<double, 2, 4> H;
+  Eigen::Matrix2d R;
+  observation(lag, H, R);
+  const Eigen::Matrix2d S = H * P_ * H.transpose() + R;
   return innovation.dot(S.ldlt().solve(innovation));
 }
 
-BallGate BallFilter::classify(double x, double y, double time_since_update) const {
+BallGate BallFilter::classify(double x, double y, double time_since_update, double lag) const {
   // Nothing farther than a ball kicked right after the last measurement can be this ball,
   // however uncertain a coasting filter has become.
   const double jump = std::hypot(x - last_measured_.x(), y - last_measured_.y());
   const double reach = p_.max_speed * std::max(0.0, time_since_update) + p_.kick_margin;
   if (jump > reach) return BallGate::Rejected;
   const double distance = std::hypot(x - x_(0), y - x_(1));
-  if (distance <= p_.gate_min_distance || distance2(x, y) <= p_.gate_d2) return BallGate::Accepted;
+  if (distance <= p_.gate_min_distance || distance2(x, y, lag) <= p_.gate_d2) return BallGate::Accepted;
   return BallGate::Kick;
 }
 
-BallGate BallFilter::update(double x, double y, double time_since_update) {
-  const BallGate gate = classify(x, y, time_since_update);
+BallGate BallFilter::update(double x, double y, double time_since_update, double lag) {
+  const BallGate gate = classify(x, y, time_since_update, lag);
   if (gate == BallGate::Accepted) {
     const Eigen::Vector2d innovation(x - x_(0), y - x_(1));
-    const Eigen::Matrix2d R = p_.sigma_xy * p_.sigma_xy * Eigen::Matrix2d::Identity();
-    const Eigen::Matrix2d S = P_.topLeftCorner<2, 2>() + R;
-    const Eigen::Matrix<double, 4, 2> K = P_.leftCols<2>() * S.inverse();
+    Eigen::Matrix<double, 2, 4> H;
+    Eigen::Matrix2d R;
+    observation(lag, H, R);
+    const Eigen::Matrix2d S = H * P_ * H.transpose() + R;
+    const Eigen::Matrix<double, 4, 2> K = P_ * H.transpose() * S.inverse();
     x_ += K * innovation;
-    Eigen::Matrix<double, 2, 4> H = Eigen::Matrix<double, 2, 4>::Zero();
-    H(0, 0) = H(1, 1) = 1;
     const Covariance I_KH = Covariance::Identity() - K * H;
     P_ = I_KH * P_ * I_KH.transpose() + K * R * K.transpose();
   } else if (gate == BallGate::Kick) {

@@ -1,5 +1,6 @@
 #include "soccer_vision/tracking/robot_filter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -102,11 +103,20 @@ void RobotFilter::predict(double dt) {
   since_heading_ += dt;
 }
 
-double RobotFilter::positionDistance2(double x, double y) const {
+void RobotFilter::observation(double lag, int rows, Eigen::MatrixXd& H, Eigen::MatrixXd& R) const {
+  lag = std::max(0.0, lag);
+  const Eigen::Vector3d noise(p_.accel_noise_xy, p_.accel_noise_xy, p_.accel_noise_theta);
+  const Eigen::Vector3d sigma(p_.sigma_x, p_.sigma_y, p_.sigma_theta);
+  const Eigen::Vector3d variance = sigma.cwiseProduct(sigma) + lagNoiseVariance<3>(noise, lag);
+  H = laggedPositionObservation<3>(lag).topRows(rows);
+  R = variance.head(rows).asDiagonal();
+}
+
+double RobotFilter::positionDistance2(double x, double y, double lag) const {
   const Eigen::Vector2d innovation(x - x_(0), y - x_(1));
-  Eigen::Matrix2d S = P_.topLeftCorner<2, 2>();
-  S(0, 0) += p_.sigma_x * p_.sigma_x;
-  S(1, 1) += p_.sigma_y * p_.sigma_y;
+  Eigen::MatrixXd H, R;
+  observation(lag, 2, H, R);
+  const Eigen::Matrix2d S = H * P_ * H.transpose() + R;
   return innovation.dot(S.ldlt().solve(innovation));
 }
 
@@ -125,7 +135,8 @@ void RobotFilter::applyUpdate(const Eigen::VectorXd& innovation, const Eigen::Ma
 GateResult RobotFilter::update(const RobotMeasurement& m) {
   const double dx = m.x - x_(0), dy = m.y - x_(1);
   const double distance = std::hypot(dx, dy);
-  bool position_ok = distance <= p_.gate_min_distance || positionDistance2(m.x, m.y) <= p_.gate_position_d2;
+  bool position_ok =
+      distance <= p_.gate_min_distance || positionDistance2(m.x, m.y, m.lag) <= p_.gate_position_d2;
   const bool maneuver = !position_ok && p_.maneuver_speed_change > 0 &&
                         distance <= p_.maneuver_speed_change * since_update_ + p_.gate_min_distance;
   if (maneuver) {
@@ -154,7 +165,9 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
   bool heading_maneuver = false;
   if (m.heading_valid) {
     const double dtheta = wrapToPi(m.theta - x_(2));
-    const double s = P_(2, 2) + p_.sigma_theta * p_.sigma_theta;
+    Eigen::MatrixXd H, R;
+    observation(m.lag, 3, H, R);
+    const double s = (H.row(2) * P_ * H.row(2).transpose())(0, 0) + R(2, 2);
     use_heading = std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
     heading_maneuver =
         !use_heading && p_.maneuver_omega_change > 0 &&
@@ -180,18 +193,13 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
   }
 
   const int rows = use_heading ? 3 : 2;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(rows, 6);
-  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, rows);
+  Eigen::MatrixXd H, R;
+  observation(m.lag, rows, H, R);
   Eigen::VectorXd innovation(rows);
-  H(0, 0) = H(1, 1) = 1;
-  R(0, 0) = p_.sigma_x * p_.sigma_x;
-  R(1, 1) = p_.sigma_y * p_.sigma_y;
   innovation(0) = dx;
   innovation(1) = dy;
   if (use_heading) {
     since_heading_ = 0;
-    H(2, 2) = 1;
-    R(2, 2) = p_.sigma_theta * p_.sigma_theta;
     innovation(2) = wrapToPi(m.theta - x_(2));
   }
   applyUpdate(innovation, H, R);

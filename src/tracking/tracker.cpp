@@ -139,6 +139,7 @@ RobotMeasurement Tracker::compensated(const RobotTrack& track, const RobotDetect
   m.y = d.y + s(4) * lag;
   m.theta = wrapToPi(d.theta + s(5) * lag);
   m.heading_valid = d.heading_valid;
+  m.lag = lag;  // the filter grows its noise by the velocities' uncertainty over the lag
   return m;
 }
 
@@ -213,7 +214,7 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, Track
     double best_d2 = INFINITY;
     for (const auto* d : detections) {
       const auto m = compensated(*track, *d, lag);
-      const double d2 = track->filter.positionDistance2(m.x, m.y);
+      const double d2 = track->filter.positionDistance2(m.x, m.y, m.lag);
       if (d2 < best_d2) {
         best_d2 = d2;
         best = d;
@@ -231,7 +232,7 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, Track
       if (t.id >= 0 || static_cast<int>(t.team) != team) continue;
       for (std::size_t di = 0; di < team_only[team].size(); ++di) {
         const auto m = compensated(t, *team_only[team][di], lag);
-        const double d2 = t.filter.positionDistance2(m.x, m.y);
+        const double d2 = t.filter.positionDistance2(m.x, m.y, m.lag);
         const double distance = std::hypot(m.x - t.filter.state()(0), m.y - t.filter.state()(1));
         if (d2 <= p_.robot.gate_position_d2 || distance <= p_.robot.gate_min_distance) {
           pairs.emplace_back(d2, ti, di);
@@ -280,7 +281,7 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, Tracke
     BallTrack& t = balls_[ti];
     const Eigen::Vector2d p = position(t, *candidates[ci]);
     const double since = timeline_.now() - t.last_time;
-    const BallGate gate = t.filter.update(p.x(), p.y(), since);
+    const BallGate gate = t.filter.update(p.x(), p.y(), since, lag);
     if (gate == BallGate::Rejected) return;
     if (gate == BallGate::Kick) ++report.ball_kicks;
     used[ci] = true;
@@ -322,10 +323,10 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, Tracke
     for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
       if (used[ci]) continue;
       const Eigen::Vector2d p = position(t, *candidates[ci]);
-      const BallGate gate = t.filter.classify(p.x(), p.y(), since);
+      const BallGate gate = t.filter.classify(p.x(), p.y(), since, lag);
       if (gate == BallGate::Rejected || (best_in_gate && gate == BallGate::Kick)) continue;
       if (gate == BallGate::Kick && since > p_.out_of_play_kick_window && !inPlay(*candidates[ci])) continue;
-      const double score = gate == BallGate::Accepted ? t.filter.distance2(p.x(), p.y())
+      const double score = gate == BallGate::Accepted ? t.filter.distance2(p.x(), p.y(), lag)
                                                       : (p - t.filter.state().head<2>()).norm();
       if ((gate == BallGate::Accepted && !best_in_gate) || score < best_score) {
         best = ci;

@@ -211,6 +211,39 @@ TEST(ColorTable, ThresholdsSelectExactlyTheSamplesTheyShould) {
   EXPECT_EQ(loose.classify(opposite_hue[0], opposite_hue[1], opposite_hue[2]), ColorClass::Purple);
 }
 
+TEST(ColorTable, AStrokeOverAMarkersRimKeepsTheMarkersColour) {
+  // A stroke across a small yellow marker: 20 pixels of its colour (with sensor noise), 20 of
+  // its rim, mixtures with the black robot top at 25-85 % black. The mean of all of them lies
+  // farther than threshold_lab from the marker's colour, so the paper's rule (validity around
+  // that mean) would keep the rim and lose the colour; the median-seeded centre keeps it.
+  const cv::Vec3b yellow(40, 205, 225), top(25, 25, 25);
+  std::vector<cv::Vec3b> marker, samples;
+  for (int i = 0; i < 20; ++i) {
+    const int d = i % 5 - 2;
+    marker.emplace_back(40 + d, 205 - d, 225 + d);
+  }
+  samples = marker;
+  for (int i = 0; i < 20; ++i) {
+    const double black = 0.25 + 0.6 * i / 19.0;
+    samples.emplace_back(cv::saturate_cast<std::uint8_t>((1 - black) * yellow[0] + black * top[0]),
+                         cv::saturate_cast<std::uint8_t>((1 - black) * yellow[1] + black * top[1]),
+                         cv::saturate_cast<std::uint8_t>((1 - black) * yellow[2] + black * top[2]));
+  }
+  cv::Vec3f mean_lab(0, 0, 0);
+  for (const auto& p : samples) mean_lab += openCv(p[0], p[1], p[2], cv::COLOR_BGR2Lab);
+  mean_lab *= 1.0f / static_cast<float>(samples.size());
+  ColorTableParams params;
+  ASSERT_GT(cv::norm(openCv(yellow[0], yellow[1], yellow[2], cv::COLOR_BGR2Lab) - mean_lab),
+            params.threshold_lab);  // the paper's centre is off the colour
+
+  const ColorTable table = ColorTable::build({{ColorClass::Yellow, samples}}, params);
+  const ClassStatistics& st = table.statistics().classes[static_cast<int>(ColorClass::Yellow)];
+  EXPECT_GE(st.valid, marker.size());
+  EXPECT_LT(st.valid, samples.size());  // the darkest rim pixels are not yellow
+  for (const auto& p : marker) EXPECT_EQ(table.classify(p[0], p[1], p[2]), ColorClass::Yellow);
+  EXPECT_EQ(table.classify(top[0], top[1], top[2]), ColorClass::None);
+}
+
 TEST(ColorTable, ThresholdsCutBetweenSamplesAndPerClassOverridesApply) {
   // Two samples: their mean lies halfway, so each is at half their Lab distance from it.
   const cv::Vec3b x(200, 100, 50), y(200, 110, 50);

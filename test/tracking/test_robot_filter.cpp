@@ -177,6 +177,40 @@ TEST(RobotFilter, HeadingFlipIsRejectedButPositionUsed) {
   EXPECT_NEAR(f.state()(2), 0.2, 1e-3);
 }
 
+TEST(RobotFilter, LateMeasurementCountsLessAndWidensTheGate) {
+  // A track converged on a robot at 1 m/s. A measurement from 50 ms ago, moved forward along
+  // the estimated velocity, says less about where the robot is now than a current one: the
+  // velocity is known only so well, and the robot may have accelerated since.
+  RobotFilterParams p;
+  const double v = 1.0, lag = 0.05;
+  RobotFilter f(p, {0.0, 0.0, 0.0, true});
+  for (int k = 1; k <= 30; ++k) {
+    f.predict(kDt);
+    ASSERT_EQ(f.update({v * k * kDt, 0.0, 0.0, true}), GateResult::Accepted);
+  }
+  f.predict(kDt);
+  const double now = 31 * kDt, prior = f.state()(0);
+  EXPECT_LT(f.positionDistance2(now * v + 0.01, 0.0, lag), 0.8 * f.positionDistance2(now * v + 0.01, 0.0));
+  EXPECT_DOUBLE_EQ(f.positionDistance2(now * v + 0.01, 0.0, 0.0), f.positionDistance2(now * v + 0.01, 0.0));
+
+  // Both 1 cm ahead of the truth (the late one after moving it forward by v̂ · lag).
+  RobotFilter current = f, late = f, lag_zero = f;
+  RobotMeasurement m{now * v + 0.01, 0.0, 0.1, true};
+  ASSERT_EQ(current.update(m), GateResult::Accepted);
+  ASSERT_EQ(lag_zero.update(m), GateResult::Accepted);  // lag 0 is the plain update
+  m.x = (now - lag) * v + 0.01 + f.state()(3) * lag;
+  m.lag = lag;
+  ASSERT_EQ(late.update(m), GateResult::Accepted);
+  EXPECT_EQ(lag_zero.state(), current.state());
+  // The current one moves the position towards it; the late one hardly (it speaks of
+  // where the robot was, so mostly of the velocity since).
+  EXPECT_GT(current.state()(0) - prior, 0.005);
+  EXPECT_LT(std::abs(late.state()(0) - prior), 0.3 * (current.state()(0) - prior));
+  EXPECT_NE(late.state()(3), f.state()(3));
+  EXPECT_LT(late.state()(2), current.state()(2));
+  EXPECT_GT(late.covariance()(0, 0), current.covariance()(0, 0));
+}
+
 TEST(RobotFilter, RejectsNonsenseParameters) {
   RobotFilterParams p;
   p.sigma_x = 0;

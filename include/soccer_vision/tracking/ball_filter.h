@@ -38,11 +38,14 @@ class BallFilter {
   BallFilter(const BallFilterParams& params, double x, double y);
 
   void predict(double dt);  // dt <= 0: no change
-  // How a measurement would be treated, given the time since the last measurement.
-  BallGate classify(double x, double y, double time_since_update) const;
-  double distance2(double x, double y) const;
+  // How a measurement would be treated, given the time since the last measurement. `lag`
+  // [s] >= 0: it was measured that much before the filter's time (another camera's frame
+  // fused late) and x, y are already moved forward along the filter's velocity; the
+  // velocity's uncertainty and the accelerations over the lag are added to its noise.
+  BallGate classify(double x, double y, double time_since_update, double lag = 0) const;
+  double distance2(double x, double y, double lag = 0) const;
   // Applies a measurement classified as Accepted or Kick (Rejected: no change).
-  BallGate update(double x, double y, double time_since_update);
+  BallGate update(double x, double y, double time_since_update, double lag = 0);
 
   const State& state() const { return x_; }
   const Covariance& covariance() const { return P_; }
@@ -54,6 +57,9 @@ class BallFilter {
   BallFilterParams p_;
   State x_ = State::Zero();
   Covariance P_ = Covariance::Identity();
+  // Observation matrix and noise of a position measured `lag` seconds ago.
+  void observation(double lag, Eigen::Matrix<double, 2, 4>& H, Eigen::Matrix2d& R) const;
+
   Eigen::Vector2d last_measured_{0, 0};
 };
 

@@ -29,4 +29,24 @@ Eigen::Matrix<double, 2 * N, 2 * N> constantVelocityProcessNoise(
   return Q;
 }
 
+// Observation of the positions of a measurement taken `lag` >= 0 seconds before the filter's
+// time (a camera's frame fused late): p(t - lag) = p(t) - v(t) * lag, so H = [I, -lag * I].
+// The tracker moves the measured positions forward along the estimated velocity first, so
+// the innovation is the plain difference; H carries the velocity's uncertainty into the
+// innovation covariance and the gain. lag = 0 is the usual [I, 0].
+template <int N>
+Eigen::Matrix<double, N, 2 * N> laggedPositionObservation(double lag) {
+  Eigen::Matrix<double, N, 2 * N> H = Eigen::Matrix<double, N, 2 * N>::Zero();
+  H.template leftCols<N>().setIdentity();
+  H.template rightCols<N>() = -lag * Eigen::Matrix<double, N, N>::Identity();
+  return H;
+}
+
+// The accelerations over that lag, which moving forward along the velocity cannot know:
+// q * lag³ / 3 per axis, added to the measurement noise.
+template <int N>
+Eigen::Matrix<double, N, 1> lagNoiseVariance(const Eigen::Matrix<double, N, 1>& accel_noise, double lag) {
+  return accel_noise.cwiseProduct(accel_noise) * (lag * lag * lag / 3.0);
+}
+
 }  // namespace soccer_vision

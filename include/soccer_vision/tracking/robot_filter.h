@@ -61,6 +61,10 @@ struct RobotMeasurement {
   double x = 0, y = 0;        // [m]
   double theta = 0;           // [rad]
   bool heading_valid = true;  // false: update position only
+  // [s] >= 0: how much earlier than the filter's time it was measured (another camera's
+  // frame fused late). x, y, θ are already moved forward along the filter's velocities; the
+  // filter adds the velocities' uncertainty and the accelerations over the lag to its noise.
+  double lag = 0;
 };
 
 enum class GateResult {
@@ -88,8 +92,9 @@ class RobotFilter {
   void predict(double dt);
   // Gates and applies one measurement of the current time.
   GateResult update(const RobotMeasurement& m);
-  // Squared Mahalanobis distance of the measurement's position (2 dof).
-  double positionDistance2(double x, double y) const;
+  // Squared Mahalanobis distance of the measurement's position (2 dof), measured `lag`
+  // seconds before the filter's time.
+  double positionDistance2(double x, double y, double lag = 0) const;
 
   const State& state() const { return x_; }
   const Covariance& covariance() const { return P_; }
@@ -103,6 +108,8 @@ class RobotFilter {
   void start(const RobotMeasurement& m);
   void startHeading(double theta);
   void applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R);
+  // Observation matrix and noise of x, y, θ measured `lag` seconds ago (the first `rows`).
+  void observation(double lag, int rows, Eigen::MatrixXd& H, Eigen::MatrixXd& R) const;
 
   RobotFilterParams p_;
   State x_ = State::Zero();

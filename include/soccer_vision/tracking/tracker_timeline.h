@@ -10,7 +10,10 @@
 //  - otherwise                                     -> Process, time advances by s - now
 // Filters are only ever predicted forward: a slightly older frame (cameras are not
 // synchronised: up to half a frame apart) is applied at `now`, its positions moved
-// forward by the track's velocity × lag by the tracker. After a backward reset, frames
+// forward by the track's velocity × lag by the tracker, and the filters add the velocity's
+// uncertainty and the accelerations over the lag to its noise. So a camera whose frame was
+// delayed by a busy machine (a scheduling hiccup of tens of ms) still counts; only frames
+// older than late_tolerance are dropped. After a backward reset, frames
 // of the other cameras from the old time line (not newer than the newest stamp seen before
 // the reset) are dropped as Stale instead of resetting again, until that camera too
 // delivers a frame of the new time line.
@@ -21,7 +24,7 @@
 namespace soccer_vision {
 
 struct TimelineParams {
-  double late_tolerance = 0.020;  // [s] frames at most this much older than `now` are fused
+  double late_tolerance = 0.1;    // [s] frames at most this much older than `now` are fused
   double max_forward_jump = 1.0;  // [s] larger forward steps reset all tracks
 };
 
