@@ -1,5 +1,6 @@
 #include "soccer_vision/common/camera_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -11,33 +12,58 @@ namespace soccer_vision {
 CameraModel::CameraModel(const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& field_T_camera)
     : k_(intrinsics), field_T_camera_(field_T_camera), camera_T_field_(field_T_camera.inverse()) {}
 
-CameraModel CameraModel::defaultCamera(const FieldGeometry& field, int index, int width, int height) {
-  // Designed at 1280x1024: f = 800 px at 4 m gives ~5 mm per pixel at the image centre; the
-  // image v axis runs along field x and covers the half (4.5 m) plus the 0.3 m boundary on
-  // one side and 0.3 m of overlap on the other, u covers the 6 m width plus both boundaries.
+CameraModel CameraModel::defaultCamera(const FieldGeometry& field, int index, int width, int height,
+                                       int count) {
+  if (count < 1 || count > kMaxCameras) {
+    throw std::invalid_argument("camera layout: " + std::to_string(count) + " cameras (1.." +
+                                std::to_string(kMaxCameras) + ")");
+  }
+  if (index < 0 || index >= count) {
+    throw std::invalid_argument("camera layout: no camera " + std::to_string(index) + " among " +
+                                std::to_string(count));
+  }
+  // The cell of the field this camera watches: `columns` along x, `rows` along y.
+  const int rows = (count >= 4 && count % 2 == 0) ? 2 : 1;
+  const int columns = count / rows;
+  const int column = index % columns, row = index / columns;
+  const double cell_x = field.length / columns, cell_y = field.width / rows;
+  const double centre_x = -field.halfLength() + (column + 0.5) * cell_x;
+  const double centre_y = -field.halfWidth() + (row + 0.5) * cell_y;
+
+  // Designed at 1280x1024 for Division B's half (4.5 m along the 1024 px, 6 m along the
+  // 1280 px): f = 800 px at 4 m gives ~5 mm per pixel at the image centre and, with the
+  // barrel distortion, covers the half plus the 0.3 m boundary on one side and 0.3 m of
+  // overlap on the other. Other cells keep that view of the cell plus 0.35 m on each side.
+  const double long_side = std::max(cell_x, cell_y), short_side = std::min(cell_x, cell_y);
   CameraIntrinsics k;
   k.width = 1280;
   k.height = 1024;
-  k.fx = k.fy = 800.0;
+  k.fx = k.fy = 800.0 * std::min(6.7 / (long_side + 0.7), 5.2 / (short_side + 0.7));
   k.cx = 639.5;
   k.cy = 511.5;
   k.dist = {-0.12, 0.02, 0.0, 0.0, 0.0};  // barrel, like the wide-angle lenses of real fields
 
-  const double side = index == 0 ? -1.0 : 1.0;
-  const double centre_x = side * field.halfLength() / 2;
-  // Optical frame looking straight down: z_opt = -z_field, x_opt (u) = +y_field,
-  // y_opt (v) = +x_field; then a small mounting error, as no real camera hangs perfectly.
+  // Optical frame looking straight down: z_opt = -z_field; the image's long side (u) along
+  // the cell's: x_opt = +y_field, y_opt = +x_field for cells longer along y (Division B's
+  // halves), x_opt = +x_field, y_opt = -y_field otherwise. Then a small mounting error, as no
+  // real camera hangs perfectly, mirrored between the two ends of the field.
   Eigen::Matrix3d down;
-  down.col(0) = Eigen::Vector3d::UnitY();
-  down.col(1) = Eigen::Vector3d::UnitX();
+  if (cell_y >= cell_x) {
+    down.col(0) = Eigen::Vector3d::UnitY();
+    down.col(1) = Eigen::Vector3d::UnitX();
+  } else {
+    down.col(0) = Eigen::Vector3d::UnitX();
+    down.col(1) = -Eigen::Vector3d::UnitY();
+  }
   down.col(2) = -Eigen::Vector3d::UnitZ();
+  const double side = centre_x < 0 ? -1.0 : 1.0;
   const Eigen::Matrix3d mount = (Eigen::AngleAxisd(side * 0.015, Eigen::Vector3d::UnitZ()) *
                                  Eigen::AngleAxisd(0.010, Eigen::Vector3d::UnitY()) *
                                  Eigen::AngleAxisd(-side * 0.008, Eigen::Vector3d::UnitX()))
                                     .toRotationMatrix();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = mount * down;
-  pose.translation() = Eigen::Vector3d(centre_x + side * 0.01, 0.02, 4.0);
+  pose.translation() = Eigen::Vector3d(centre_x + side * 0.01, centre_y + 0.02, 4.0);
   CameraModel model(k, pose);
   return (width == k.width && height == k.height) ? model : model.scaled(width, height);
 }

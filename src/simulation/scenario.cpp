@@ -89,6 +89,7 @@ ScenarioConfig parseScenario(const std::string& yaml_text, const std::string& so
       .field("fps", s.fps)
       .field("width", s.width)
       .field("field", s.field)
+      .field("cameras", s.cameras)
       .field("height", s.height)
       .field("pattern", s.pattern)
       .field("blue_robots", s.blue_robots)
@@ -176,6 +177,8 @@ void checkScenario(const ScenarioConfig& s, const std::string& source) {
   check(s.width >= 64 && s.height >= 64 && s.width % 2 == 0 && s.height % 2 == 0 &&
             s.width <= kMaxImageSide && s.height <= kMaxImageSide,
         source, "width and height must be even and in 64.." + std::to_string(kMaxImageSide));
+  check(s.cameras >= 1 && s.cameras <= kMaxCameras, source,
+        "cameras must be in 1.." + std::to_string(kMaxCameras));
   check(s.blue_robots >= 0 && s.yellow_robots >= 0 && s.balls >= 0, source,
         "robot and ball counts must not be negative");
   check(s.blue_robots <= kMaxScenarioRobots && s.yellow_robots <= kMaxScenarioRobots, source,

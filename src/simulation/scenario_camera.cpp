@@ -7,7 +7,8 @@
 namespace soccer_vision {
 
 CameraModel scenarioCamera(const FieldGeometry& field, int index, const ScenarioConfig& scenario) {
-  const CameraModel built_in = CameraModel::defaultCamera(field, index, scenario.width, scenario.height);
+  const CameraModel built_in =
+      CameraModel::defaultCamera(field, index, scenario.width, scenario.height, scenario.cameras);
   CameraIntrinsics k = built_in.intrinsics();
   k.dist[0] = scenario.lens.k1;
   k.dist[1] = scenario.lens.k2;

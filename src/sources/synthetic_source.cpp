@@ -65,11 +65,6 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
   close();
   OpenResult result;
 
-  if (options.camera_index != 0 && options.camera_index != 1) {
-    result.error =
-        "the synthetic source has cameras 0 and 1 only, not " + std::to_string(options.camera_index);
-    return result;
-  }
   if (options.fps < 0 || options.width < 0 || options.height < 0) {
     result.error = "fps, width and height must be >= 0 (0 = the scenario's value)";
     return result;
@@ -84,6 +79,11 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
                                 "); using the embedded default scenario");
       scenario = ScenarioConfig{};
     }
+  }
+  if (options.camera_index < 0 || options.camera_index >= scenario.cameras) {
+    result.error = "the scenario '" + scenario.name + "' has cameras 0.." +
+                   std::to_string(scenario.cameras - 1) + ", not " + std::to_string(options.camera_index);
+    return result;
   }
   if (options.fps > 0) scenario.fps = options.fps;
   if (options.width > 0) scenario.width = options.width;

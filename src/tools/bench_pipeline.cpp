@@ -4,16 +4,19 @@
 // identification -> tracking -> the next frame's windows (VisionPipeline, the loop the
 // offline evaluation runs). A benchmark, not a test.
 //
-//   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N]
+//   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N] [--cameras C]
 //       [--width W --height H] [--cold] [--repeat R] [--ssl] [--json FILE]
 //
-// Frames of synthetic camera 0 are rendered first (not timed), with the scenario's pattern
-// and a colour table calibrated like the demo's; then each frame is processed in order on
-// one thread. Before it is processed, each frame is written into the delivery buffer (not
-// timed), as the CameraDriver nodelet's source writes each image into the message it then
-// publishes: the pipeline meets the frame where the driver's write left it (the caches), as
-// in the nodelet manager. --cold processes the rendered frames where they are instead: 300
-// frames of 4 MB are far out of the caches, as a frame a camera's DMA wrote to memory.
+// Frames of synthetic camera 0 (--cameras C: cameras 0..C-1 of the scenario's layout) are
+// rendered first (not timed), with the scenario's pattern and a colour table calibrated like
+// the demo's, per camera; then each frame is processed in order on one thread (with C
+// cameras, frame i of every camera before frame i + 1, each a millisecond after the previous
+// camera's). `load` is the processing time per second of the scenario's video over all
+// cameras, in cores: what the cameras at the scenario's frame rate ask of the machine. Before it is
+// processed, each frame is written into the delivery buffer (not timed), as the CameraDriver nodelet's source
+// writes each image into the message it then publishes: the pipeline meets the frame where the driver's write
+// left it (the caches), as in the nodelet manager. --cold processes the rendered frames where they are
+// instead: 300 frames of 4 MB are far out of the caches, as a frame a camera's DMA wrote to memory.
 // --repeat R runs the frames R times, each time with a fresh pipeline, and takes per frame
 // and stage the fastest pass: the work without the interference of a shared machine (on
 // ours a single pass's p99 varies by up to 2x from run to run); each pass's p99 is
@@ -29,6 +32,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -44,6 +48,7 @@
 #include "soccer_vision/pipeline/vision_pipeline.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
+#include "soccer_vision/simulation/scenario_camera.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
 #include "soccer_vision/ssl/detection_packet.h"
 #include "soccer_vision/ssl/kicked_ball.h"
@@ -58,7 +63,7 @@ namespace {
 
 struct Options {
   std::string scenario_path;
-  int frames = 300, width = 0, height = 0;
+  int frames = 300, width = 0, height = 0, cameras = 1;
   std::string json;
   bool cold = false;
   int repeat = 1;
@@ -70,6 +75,9 @@ void addOptions(CLI::App& app, Options& o) {
                  "scenario preset: a name or a YAML file (default: the embedded one)");
   app.add_option("--frames", o.frames, "frames per pass")
       ->check(CLI::Range(10, 1000000))
+      ->capture_default_str();
+  app.add_option("--cameras", o.cameras, "cameras 0..C-1 of the scenario's layout, processed together")
+      ->check(CLI::Range(1, sv::kMaxCameras))
       ->capture_default_str();
   app.add_option("--width", o.width, "[px] image width; 0: the scenario's")->check(CLI::Range(0, 16384));
   app.add_option("--height", o.height, "[px] image height; 0: the scenario's")->check(CLI::Range(0, 16384));
@@ -136,30 +144,41 @@ int main(int argc, char** argv) {
     if (o.height > 0) scenario.height = o.height;
     const sv::FieldGeometry field = sv::fieldGeometryByName(scenario.field);
     const sv::PatternSet patterns = sv::patternSetByName(scenario.pattern);
-    const sv::CameraModel camera = sv::CameraModel::defaultCamera(field, 0, scenario.width, scenario.height);
-    const sv::FieldRenderer renderer(camera, field, patterns, scenario);
+    if (o.cameras > scenario.cameras)
+      throw std::invalid_argument("--cameras " + std::to_string(o.cameras) + ": the scenario has " +
+                                  std::to_string(scenario.cameras));
     const auto layout = scenario.sensor.bayer.empty()
                             ? sv::PixelLayout::Bgr
                             : *sv::pixelLayoutForEncoding("bayer_" + scenario.sensor.bayer + "8");
-    const auto model = sv::SegmentationModel::fromTable(
-        std::make_shared<const sv::ColorTable>(sv::calibrateSyntheticCamera(scenario, 0)));
+    std::vector<sv::PipelineCamera> cameras;
+    std::vector<std::unique_ptr<sv::FieldRenderer>> renderers;
+    for (int c = 0; c < o.cameras; ++c) {
+      sv::PipelineCamera pc;
+      pc.id = c;
+      pc.model = sv::scenarioCamera(field, c, scenario);
+      pc.segmentation = sv::SegmentationModel::fromTable(
+          std::make_shared<const sv::ColorTable>(sv::calibrateSyntheticCamera(scenario, c)));
+      pc.layout = layout;
+      renderers.push_back(std::make_unique<sv::FieldRenderer>(pc.model, field, patterns, scenario));
+      cameras.push_back(pc);
+    }
 
+    // frames[i * C + c]: frame i of camera c.
     sv::GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
     std::vector<cv::Mat> frames;
     for (int i = 0; i < o.frames; ++i) {
-      sv::RenderedFrame f;
-      renderer.render(sim.state(), i, f);
-      frames.push_back(f.image.clone());
+      for (const auto& renderer : renderers) {
+        sv::RenderedFrame f;
+        renderer->render(sim.state(), i, f);
+        frames.push_back(f.image.clone());
+      }
       sim.step(1.0 / scenario.fps);
     }
+    const int processed_frames = o.frames * o.cameras;
 
     // The nodelets' loop in one process (vision_pipeline.h), timed per stage; `repeat`
     // passes over the same frames, each with a fresh pipeline (the same work: the pipeline
     // is deterministic), and per frame and stage the fastest of them.
-    sv::PipelineCamera pc;
-    pc.model = camera;
-    pc.segmentation = model;
-    pc.layout = layout;
     const double interval = 1.0 / scenario.fps;
     std::vector<std::string> stages = {"preprocessing", "classification", "recognition", "tracking", "total"};
     if (o.ssl) stages.insert(stages.end(), {"ssl", "to_udp_sent"});
@@ -172,16 +191,18 @@ int main(int argc, char** argv) {
     sv::ssl::TrackedPacketOptions tracked_options;
     tracked_options.uuid = sv::ssl::randomUuid();
     std::map<std::string, std::vector<double>> t;
-    for (const std::string& stage : stages) t[stage].assign(static_cast<std::size_t>(o.frames), 1e300);
+    for (const std::string& stage : stages)
+      t[stage].assign(static_cast<std::size_t>(processed_frames), 1e300);
     std::vector<double> pass_p99;
     std::size_t windowed = 0, robots = 0;
     cv::Mat delivered;
     for (int pass = 0; pass < o.repeat; ++pass) {
-      sv::VisionPipeline pipeline({pc}, patterns, field);
+      sv::VisionPipeline pipeline(cameras, patterns, field);
       sv::ssl::KickedBallEstimator kicks;
       std::vector<double> totals;
       windowed = robots = 0;
-      for (int i = 0; i < o.frames; ++i) {
+      for (int i = 0; i < processed_frames; ++i) {
+        const int camera = i % o.cameras;
         const cv::Mat* image = &frames[i];
         if (!o.cold) {
           delivered.create(frames[i].size(), frames[i].type());
@@ -189,7 +210,8 @@ int main(int argc, char** argv) {
           image = &delivered;
         }
         const auto t0 = Clock::now();
-        const sv::PipelineFrame f = pipeline.process(0, *image, i * interval);
+        const sv::PipelineFrame f =
+            pipeline.process(camera, *image, (i / o.cameras) * interval + 1e-3 * camera);
         const double total = ms(t0, Clock::now());
         double ssl_ms = 0;
         if (sender) {
@@ -224,17 +246,24 @@ int main(int argc, char** argv) {
       pass_p99.push_back(sv::percentile(totals, 99));
     }
 
+    double busy_ms = 0;
+    for (double v : t["total"]) busy_ms += v;
+    const double load = busy_ms / 1e3 / (o.frames * interval);  // cores at the scenario's frame rate
     std::printf(
-        "bench_pipeline: %s, %dx%d %s, %d frames (%s), %.1f %% searched in windows, %.1f robots tracked per "
-        "frame\n",
-        scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width, scenario.height,
-        scenario.sensor.bayer.empty() ? "bgr8" : ("bayer_" + scenario.sensor.bayer + "8").c_str(), o.frames,
-        o.cold ? "cold: from memory" : "as the driver writes them", 100.0 * windowed / o.frames,
-        static_cast<double>(robots) / o.frames);
+        "bench_pipeline: %s, %d camera(s) of %dx%d %s at %.0f Hz, %d frames each (%s), %.1f %% searched in "
+        "windows, %.1f robots tracked per frame; load %.2f cores\n",
+        scenario.name.empty() ? "embedded default" : scenario.name.c_str(), o.cameras, scenario.width,
+        scenario.height,
+        scenario.sensor.bayer.empty() ? "bgr8" : ("bayer_" + scenario.sensor.bayer + "8").c_str(),
+        scenario.fps, o.frames, o.cold ? "cold: from memory" : "as the driver writes them",
+        100.0 * windowed / processed_frames, static_cast<double>(robots) / processed_frames, load);
     nlohmann::json json = {{"width", scenario.width},
                            {"height", scenario.height},
+                           {"cameras", o.cameras},
+                           {"fps", scenario.fps},
                            {"frames", o.frames},
-                           {"windowed_fraction", static_cast<double>(windowed) / o.frames},
+                           {"load_cores", load},
+                           {"windowed_fraction", static_cast<double>(windowed) / processed_frames},
                            {"cold", o.cold}};
     if (o.repeat > 1) {
       std::printf("  %d passes, per frame the fastest; total p99 of each pass:", o.repeat);

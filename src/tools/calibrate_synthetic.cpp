@@ -6,6 +6,8 @@
 //
 //   rosrun soccer_vision calibrate_synthetic --out table.svct [--scenario NAME|FILE.yaml]
 //       [--camera 0] [--width W --height H]
+//   rosrun soccer_vision calibrate_synthetic --out PREFIX --cameras N ...   (cameras 0..N-1 of the
+//       scenario's layout, each on its own thread, to PREFIX_<n>.svct: the demo's start-up)
 // (also --key=value; an empty --scenario= is the embedded scenario; roslaunch's __name:=
 // remappings are ignored)
 //
@@ -15,12 +17,15 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <future>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/simulation/scenario.h"
 #include "soccer_vision/simulation/synthetic_calibration.h"
@@ -32,16 +37,19 @@ namespace {
 
 struct Options {
   std::string out, scenario;
-  int camera = 0, width = 0, height = 0;
+  int camera = 0, cameras = 0, width = 0, height = 0;
 };
 
 void addOptions(CLI::App& app, Options& o) {
   app.add_option("--out", o.out, "the colour table to write (.svct)")->required();
   app.add_option("--scenario", o.scenario,
                  "scenario preset: a name or a YAML file (default: the embedded one)");
-  app.add_option("--camera", o.camera, "synthetic camera: 0 or 1")
-      ->check(CLI::Range(0, 1))
-      ->capture_default_str();
+  auto* one = app.add_option("--camera", o.camera, "synthetic camera of the scenario's layout")
+                  ->check(CLI::Range(0, sv::kMaxCameras - 1))
+                  ->capture_default_str();
+  app.add_option("--cameras", o.cameras, "calibrate cameras 0..N-1; --out is then a prefix: PREFIX_<n>.svct")
+      ->check(CLI::Range(1, sv::kMaxCameras))
+      ->excludes(one);
   app.add_option("--width", o.width, "[px] image width; 0: the scenario's")->check(CLI::Range(0, 16384));
   app.add_option("--height", o.height, "[px] image height; 0: the scenario's")->check(CLI::Range(0, 16384));
 }
@@ -59,15 +67,32 @@ int main(int argc, char** argv) {
     sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
     if (o.width > 0) scenario.width = o.width;
     if (o.height > 0) scenario.height = o.height;
-    const sv::ColorTable table = sv::calibrateSyntheticCamera(scenario, o.camera);
-    const std::string temporary = o.out + ".partial";
-    table.save(temporary);
-    if (std::rename(temporary.c_str(), o.out.c_str()) != 0)
-      throw std::runtime_error("cannot rename " + temporary + " to " + o.out);
-    std::printf(
-        "colour table of synthetic camera %d (%s, %dx%d) written to %s: %d overlap cells decided by Bayes\n",
-        o.camera, scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width,
-        scenario.height, o.out.c_str(), static_cast<int>(table.statistics().overlap_cells));
+    std::vector<std::pair<int, std::string>> jobs = {{o.camera, o.out}};
+    if (o.cameras > 0) {
+      jobs.clear();
+      for (int i = 0; i < o.cameras; ++i) jobs.emplace_back(i, o.out + "_" + std::to_string(i) + ".svct");
+    }
+    // Each camera on its own thread, each table written as soon as it is done: the demo's
+    // Segmentations wait for their files.
+    auto calibrate = [&scenario](int camera, const std::string& out) {
+      const sv::ColorTable table = sv::calibrateSyntheticCamera(scenario, camera);
+      const std::string temporary = out + ".partial";
+      table.save(temporary);
+      if (std::rename(temporary.c_str(), out.c_str()) != 0)
+        throw std::runtime_error("cannot rename " + temporary + " to " + out);
+      return static_cast<int>(table.statistics().overlap_cells);
+    };
+    std::vector<std::future<int>> done;
+    for (const auto& [camera, out] : jobs)
+      done.push_back(std::async(std::launch::async, calibrate, camera, out));
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+      const int overlap = done[i].get();
+      std::printf(
+          "colour table of synthetic camera %d (%s, %dx%d) written to %s: %d overlap cells decided by "
+          "Bayes\n",
+          jobs[i].first, scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width,
+          scenario.height, jobs[i].second.c_str(), overlap);
+    }
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "calibrate_synthetic: " << e.what() << "\n";

@@ -7,9 +7,9 @@
 //   ~camera    string "camera_0"   camera namespace: subscribes <camera>/image_raw,
 //                                   <camera>/camera_info, <camera>/ground_truth/robots and
 //                                   <camera>/ground_truth/balls
-//   ~camera_id int    0            synthetic camera index (CameraModel::defaultCamera) used to
-//                                   project the ground truth onto the snapshot
-//   ~field     string "div_b"      field geometry of the synthetic scene (div_b, div_a or a YAML path)
+//   ~camera_id int    0            synthetic camera index, of the scenario's layout, used to
+//   ~scenario  string ""           project the ground truth onto the snapshot through the scenario's
+//                                   camera (scenarioCamera; "" = the embedded default scenario)
 //   ~duration  double 10           [s] run time (the --duration option wins); 0 = until Ctrl-C
 //   ~snapshot  string "./soccer_vision_snapshot.png"  annotated PNG of the last frame
 //
@@ -48,6 +48,9 @@
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/evaluation/scoring.h"
 #include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/package_paths.h"
+#include "soccer_vision/simulation/scenario.h"
+#include "soccer_vision/simulation/scenario_camera.h"
 #include "tool_command_line.h"
 
 namespace sv = soccer_vision;
@@ -208,7 +211,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "demo_monitor: watches <~camera>/image_raw (+ camera_info, ground truth) and the tracking\n"
       "outputs, prints a summary and writes an annotated snapshot; exits 1 if no frame arrived.\n"
-      "Private parameters (_camera:=/camera_0 _camera_id:=0 _vision:=/vision _field:=div_b,\n"
+      "Private parameters (_camera:=/camera_0 _camera_id:=0 _vision:=/vision _scenario:=NAME,\n"
       "~duration, ~snapshot) as in docs/tools.md",
       "demo_monitor"};
   app.add_option("--duration", duration, "[s] run time (wins over ~duration); 0: until Ctrl-C")
@@ -222,8 +225,8 @@ int main(int argc, char** argv) {
   int camera_id = 0;
   pnh.param<std::string>("camera", camera_ns, "camera_0");
   pnh.param("camera_id", camera_id, 0);
-  std::string field_name;
-  pnh.param<std::string>("field", field_name, "div_b");
+  std::string scenario_name;
+  pnh.param<std::string>("scenario", scenario_name, "");
   std::string vision_ns;
   pnh.param<std::string>("vision", vision_ns, "/vision");
   if (duration < 0) pnh.param("duration", duration, 10.0);
@@ -311,9 +314,12 @@ int main(int argc, char** argv) {
     }
     const auto rit = m.robots.find(shot->header.stamp);
     const auto bit = m.balls.find(shot->header.stamp);
+    const std::string path = sv::resolveScenarioPath(scenario_name);
+    sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
+    scenario.width = static_cast<int>(im.width);
+    scenario.height = static_cast<int>(im.height);
     const sv::CameraModel camera =
-        sv::CameraModel::defaultCamera(sv::fieldGeometryByName(field_name), camera_id,
-                                       static_cast<int>(im.width), static_cast<int>(im.height));
+        sv::scenarioCamera(sv::fieldGeometryByName(scenario.field), camera_id, scenario);
     annotate(bgr, camera, rit != m.robots.end() ? rit->second : nullptr,
              bit != m.balls.end() ? bit->second : nullptr);
     if (!cv::imwrite(snapshot, bgr)) throw std::runtime_error("cv::imwrite failed");

@@ -8,7 +8,7 @@
 // the frame shows the objects, i.e. mid-exposure for a blurred frame).
 //
 //   rosrun soccer_vision make_scenario --preset NAME|FILE.yaml --frames N --out FILE.bag
-//       [--cameras 0[,1]] [--width W --height H] [--seed S] [--start STAMP]
+//       [--cameras 0[,1,...]] [--width W --height H] [--seed S] [--start STAMP]
 //       [--compression lz4|bz2|none] [--sample-inset PX] [--click-noise PX]
 //       [--calibration-frame auto|N]
 //
@@ -70,9 +70,10 @@ void addOptions(CLI::App& app, Options& o) {
   // An hour at 60 Hz is far more than any test needs; more only fills the disk.
   app.add_option("--frames", o.frames, "frames to render")->required()->check(CLI::Range(1, 216000));
   app.add_option("--out", o.out, "the bag to write; the exchange files go beside it")->required();
-  app.add_option("--cameras", o.cameras, "synthetic cameras to record: 0 and/or 1")
+  app.add_option("--cameras", o.cameras,
+                 "synthetic cameras to record, of the preset's layout (its `cameras`)")
       ->delimiter(',')
-      ->check(CLI::IsMember({0, 1}))
+      ->check(CLI::Range(0, sv::kMaxCameras - 1))
       ->capture_default_str();
   app.add_option("--width", o.width, "[px] image width; 0: the preset's")->check(CLI::Range(0, 16384));
   app.add_option("--height", o.height, "[px] image height; 0: the preset's")->check(CLI::Range(0, 16384));

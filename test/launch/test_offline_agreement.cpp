@@ -6,17 +6,20 @@
 // missing from the live file and asserts identical identities and sub-millimetre
 // positions on >= 98 % of the common frames.
 //
-// Usage (offline_agreement.test): test_offline_agreement DIR — DIR holds scenario.bag,
-// table.svct, camera_pose.yaml, truth.jsonl and receives live_results.jsonl.
+// Usage (offline_agreement.test): test_offline_agreement DIR [RESULTS] — DIR holds scenario.bag,
+// table.svct, camera_pose.yaml, truth.jsonl and receives RESULTS (default live_results.jsonl);
+// only a file written after the test started counts (not one an earlier run left).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <string>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -29,6 +32,10 @@ using namespace soccer_vision;
 namespace {
 
 std::string g_dir;
+std::string g_results = "live_results.jsonl";
+// When this test started (the launch starts the nodelets at the same moment), on the files' clock.
+const std::filesystem::file_time_type g_started =
+    std::filesystem::file_time_type::clock::now() - std::chrono::seconds(2);
 
 std::size_t lineCount(const std::string& path) {
   std::ifstream in(path);
@@ -37,15 +44,18 @@ std::size_t lineCount(const std::string& path) {
   return n;
 }
 
-// Until the live results file has lines and has not grown for `quiet` (rosbag play done).
-std::size_t waitForLiveResults(const std::string& path, std::chrono::seconds quiet,
-                               std::chrono::seconds limit) {
+// Until the live results file, written since `since`, has lines and has not grown for
+// `quiet` (rosbag play done).
+std::size_t waitForLiveResults(const std::string& path, std::filesystem::file_time_type since,
+                               std::chrono::seconds quiet, std::chrono::seconds limit) {
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + limit;
   std::size_t last = 0;
   auto last_change = Clock::now();
   while (Clock::now() < deadline) {
-    const std::size_t n = lineCount(path);
+    std::error_code ec;
+    const bool fresh = std::filesystem::last_write_time(path, ec) >= since && !ec;
+    const std::size_t n = fresh ? lineCount(path) : 0;
     if (n != last) last = n, last_change = Clock::now();
     if (n > 0 && Clock::now() - last_change > quiet) return n;
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
@@ -72,9 +82,9 @@ std::map<Identity, const RobotRecord*> measured(const FrameRecord& f) {
 }  // namespace
 
 TEST(OfflineAgreement, RosbagPlayAndInProcessRunAgree) {
-  const std::string live_path = g_dir + "/live_results.jsonl";
+  const std::string live_path = g_dir + "/" + g_results;
   const std::size_t live_lines =
-      waitForLiveResults(live_path, std::chrono::seconds(5), std::chrono::seconds(150));
+      waitForLiveResults(live_path, g_started, std::chrono::seconds(5), std::chrono::seconds(150));
   ASSERT_GT(live_lines, 0u) << "the live pipeline wrote no results to " << live_path;
 
   std::string out;
@@ -140,12 +150,15 @@ TEST(OfflineAgreement, RosbagPlayAndInProcessRunAgree) {
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
+  std::vector<std::string> positional;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a.rfind("__", 0) != 0 && a.rfind("--gtest", 0) != 0) g_dir = a;
+    if (a.rfind("__", 0) != 0 && a.rfind("--gtest", 0) != 0) positional.push_back(a);
   }
-  if (g_dir.empty()) {
-    std::fprintf(stderr, "usage: test_offline_agreement DIR\n");
+  if (!positional.empty()) g_dir = positional[0];
+  if (positional.size() > 1) g_results = positional[1];
+  if (g_dir.empty() || positional.size() > 2) {
+    std::fprintf(stderr, "usage: test_offline_agreement DIR [RESULTS]\n");
     return 2;
   }
   return RUN_ALL_TESTS();

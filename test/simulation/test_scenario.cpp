@@ -106,6 +106,23 @@ TEST(Scenario, NamesItsField) {
   EXPECT_THROW(parseScenario("field: [1]", "bad"), std::runtime_error);
 }
 
+TEST(Scenario, NamesItsCameraLayout) {
+  EXPECT_EQ(parseScenario("", "empty").cameras, 2);
+  EXPECT_NE(errorOf("cameras: 0\n").find("cameras must be in 1..8"), std::string::npos);
+  EXPECT_NE(errorOf("cameras: 9\n").find("cameras must be in 1..8"), std::string::npos);
+  const auto four = loadScenario(kScenarios + "div_a_four_cameras.yaml");
+  EXPECT_EQ(four.cameras, 4);
+  EXPECT_EQ(four.field, "div_a");
+  const auto two = loadScenario(kScenarios + "div_a_two_cameras.yaml");
+  EXPECT_EQ(two.cameras, 2);
+  EXPECT_EQ(two.width, 2448);
+  EXPECT_DOUBLE_EQ(two.fps, 75.0);
+  for (const auto* s : {&four, &two}) {
+    EXPECT_EQ(s->blue_robots, 11);
+    EXPECT_LE(s->blue_robots, patternSetByName(s->pattern).maxRobotsPerTeam());
+  }
+}
+
 // Values that once passed: duplicate keys (yaml-cpp keeps the first), NaN motion, sizes and
 // counts that hang or try to allocate tens of GB.
 TEST(Scenario, DuplicateKeysNanAndUnboundedSizesAreErrors) {

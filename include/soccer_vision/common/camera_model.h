@@ -22,6 +22,7 @@ struct CameraIntrinsics {
 // The largest image side any input may have (docs/robustness.md): a 16k camera, far above
 // the 1280 x 1024 of the paper; bigger sizes are refused before anything is allocated.
 constexpr int kMaxImageSide = 16384;
+constexpr int kMaxCameras = 8;  // cameras over one field (CameraModel::defaultCamera's layouts)
 
 // Throws std::invalid_argument naming the field for a size outside 1..kMaxImageSide, a
 // focal length that is not finite and positive, or a principal point or distortion
@@ -34,11 +35,17 @@ class CameraModel {
   // field_T_camera: pose of the optical frame (z forward, x right, y down) in `field`.
   CameraModel(const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& field_T_camera);
 
-  // The built-in camera `index` (0: over x < 0, 1: over x > 0): ~4 m above
-  // the carpet, looking straight down, image u along field y, covering its half plus
-  // the overlap and the boundary, with moderate barrel distortion.
-  static CameraModel defaultCamera(const FieldGeometry& field, int index, int width = 1280,
-                                   int height = 1024);
+  // The built-in camera `index` of a layout of `count` cameras (1..kMaxCameras) over the
+  // field: a grid of cells, one camera 4 m above each cell's centre looking straight down
+  // (with a small mounting error), the image's long side along the cell's, the focal length
+  // scaled from the Division B camera (800 px at 1280 x 1024 for a 4.5 x 6 m half) so that
+  // the cell plus 0.35 m on each side (overlap, boundary) is in view as in Division B, with
+  // moderate barrel distortion.
+  // Cells: count cameras in a row along field x, or 2 rows along y for an even count >= 4
+  // (4: the quarters). count 2, the default: camera 0 over x < 0, camera 1 over x > 0.
+  // Throws std::invalid_argument for an index outside 0..count-1 or count outside 1..8.
+  static CameraModel defaultCamera(const FieldGeometry& field, int index, int width = 1280, int height = 1024,
+                                   int count = 2);
 
   const CameraIntrinsics& intrinsics() const { return k_; }
   const Eigen::Isometry3d& fieldTCamera() const { return field_T_camera_; }

@@ -75,6 +75,7 @@ struct ScenarioConfig {
   int height = 1024;
   std::string pattern = "two_tag";  // pattern set name or YAML path
   std::string field = "div_b";      // field geometry: div_b, div_a or a YAML path (config/fields/)
+  int cameras = 2;                  // cameras over the field (CameraModel::defaultCamera's layout)
   int blue_robots = 5;
   int yellow_robots = 5;
   int balls = 1;

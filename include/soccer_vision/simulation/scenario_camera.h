@@ -1,4 +1,6 @@
-// The synthetic camera of a scenario: the built-in camera (CameraModel::defaultCamera) with
+// The synthetic camera `index` of a scenario: the built-in camera of its layout of
+// `scenario.cameras` (CameraModel::defaultCamera; throws std::invalid_argument for an index
+// outside it) with
 // the scenario's lens distortion and a tilt from straight down whose direction is drawn
 // from the seed. What the renderer draws through and what make_scenario publishes.
 #pragma once

@@ -44,7 +44,7 @@ struct FrameFormat {
 
 // Everything needed to open a back-end. Fields a back-end does not use are ignored.
 struct FrameSourceOptions {
-  int camera_index = 0;  // which camera (synthetic: 0 or 1, CameraModel::defaultCamera)
+  int camera_index = 0;  // which camera (synthetic: of the scenario's layout, CameraModel::defaultCamera)
   double fps = 0;        // requested frame rate [Hz]; 0 = the back-end's native rate
   int width = 0;         // requested resolution [px]; 0 = the back-end's native size
   int height = 0;

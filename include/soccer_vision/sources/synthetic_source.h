@@ -37,7 +37,7 @@ class SyntheticSource : public FrameSource {
   std::string name() const override { return "synthetic"; }
   // Scenario from options.scenario (YAML preset; a file that fails to load is replaced by
   // the embedded default with a warning), fps/width/height overridden when > 0, camera
-  // options.camera_index (0 or 1). Errors: bad camera index, fps, or resolution.
+  // options.camera_index (0 .. the scenario's cameras - 1). Errors: bad camera index, fps, or resolution.
   OpenResult open(const FrameSourceOptions& options) override;
   void close() override;
   bool isOpen() const override;
