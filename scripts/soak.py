@@ -94,6 +94,9 @@ def main():
     parser.add_argument("--interval", type=float, default=5.0, help="[s] between samples (1..60, default 5)")
     parser.add_argument("--max-slope", type=float, default=1.0,
                         help="[MB/h] memory slope allowed beyond the noise (default 1)")
+    parser.add_argument("--max-growth", type=float, default=0.0,
+                        help="[MB] rise over the window allowed at any slope (default 0): a short run's "
+                             "allowance for the allocator's last steps of warm-up")
     parser.add_argument("--warmup", type=float, default=-1,
                         help="[s] left out of the memory slope at the start (default: a fifth of the run)")
     parser.add_argument("--max-dropped-share", type=float, default=0.0,
@@ -101,8 +104,8 @@ def main():
     parser.add_argument("--gtest_output", default="",
                         help="xml:FILE: also write the outcome as a JUnit file (as a test under catkin)")
     a = parser.parse_args()
-    if not 0.5 <= a.minutes <= 600 or not 1 <= a.interval <= 60 or a.max_slope < 0:
-        parser.error("--minutes must be 0.5..600, --interval 1..60, --max-slope >= 0")
+    if not 0.5 <= a.minutes <= 600 or not 1 <= a.interval <= 60 or a.max_slope < 0 or a.max_growth < 0:
+        parser.error("--minutes must be 0.5..600, --interval 1..60, --max-slope and --max-growth >= 0")
     if a.warmup > 0.8 * a.minutes * 60 or not 0 <= a.max_dropped_share <= 1:
         parser.error("--warmup must leave a fifth of the run, --max-dropped-share be 0..1")
 
@@ -198,9 +201,10 @@ def run(a, manager, launch):
             print(f"soak:   {rise} x {name}: {key}")
     failed = []
     # Growth beyond noise: the fitted rise over the window exceeds three residual standard
-    # deviations and the allowed slope.
-    if slope > a.max_slope and growth > 3 * noise:
-        failed.append(f"memory grows {slope:.2f} MB/h (> {a.max_slope:g} MB/h and beyond the noise)")
+    # deviations, the allowed slope and the allowed rise.
+    if slope > a.max_slope and growth > max(3 * noise, a.max_growth):
+        failed.append(f"memory grows {slope:.2f} MB/h, {growth:.1f} MB over the window (> {a.max_slope:g} MB/h, "
+                      f"{a.max_growth:g} MB and beyond the noise)")
     if dropped > a.max_dropped_share * published:
         failed.append(f"{dropped} frames dropped (allowed: {a.max_dropped_share:g} of {published})")
     if published == 0 or processed < 0.95 * published:
