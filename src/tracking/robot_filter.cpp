@@ -103,28 +103,28 @@ void RobotFilter::predict(double dt) {
   since_heading_ += dt;
 }
 
-void RobotFilter::observation(double lag, int rows, Eigen::MatrixXd& H, Eigen::MatrixXd& R) const {
+RobotFilter::Observation RobotFilter::observation(double lag) const {
   lag = std::max(0.0, lag);
   const Eigen::Vector3d noise(p_.accel_noise_xy, p_.accel_noise_xy, p_.accel_noise_theta);
   const Eigen::Vector3d sigma(p_.sigma_x, p_.sigma_y, p_.sigma_theta);
-  const Eigen::Vector3d variance = sigma.cwiseProduct(sigma) + lagNoiseVariance<3>(noise, lag);
-  H = laggedPositionObservation<3>(lag).topRows(rows);
-  R = variance.head(rows).asDiagonal();
+  return {laggedPositionObservation<3>(lag), sigma.cwiseProduct(sigma) + lagNoiseVariance<3>(noise, lag)};
 }
 
 double RobotFilter::positionDistance2(double x, double y, double lag) const {
   const Eigen::Vector2d innovation(x - x_(0), y - x_(1));
-  Eigen::MatrixXd H, R;
-  observation(lag, 2, H, R);
-  const Eigen::Matrix2d S = H * P_ * H.transpose() + R;
+  const Observation o = observation(lag);
+  const Eigen::Matrix<double, 2, 6> H = o.H.topRows<2>();
+  const Eigen::Matrix2d S = H * P_ * H.transpose() + Eigen::Matrix2d(o.variance.head<2>().asDiagonal());
   return innovation.dot(S.ldlt().solve(innovation));
 }
 
-void RobotFilter::applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H,
-                              const Eigen::MatrixXd& R) {
-  const Eigen::MatrixXd S = H * P_ * H.transpose() + R;
-  const Eigen::MatrixXd K =
-      P_ * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(S.rows(), S.rows()));
+template <int Rows>
+void RobotFilter::applyUpdate(const Eigen::Matrix<double, Rows, 1>& innovation, const Observation& o) {
+  using RowsMatrix = Eigen::Matrix<double, Rows, Rows>;
+  const Eigen::Matrix<double, Rows, 6> H = o.H.topRows<Rows>();
+  const RowsMatrix R = o.variance.head<Rows>().asDiagonal();
+  const RowsMatrix S = H * P_ * H.transpose() + R;
+  const Eigen::Matrix<double, 6, Rows> K = P_ * H.transpose() * S.ldlt().solve(RowsMatrix::Identity());
   x_ += K * innovation;
   x_(2) = wrapToPi(x_(2));
   // Joseph form: stays symmetric positive definite over thousands of updates.
@@ -165,9 +165,8 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
   bool heading_maneuver = false;
   if (m.heading_valid) {
     const double dtheta = wrapToPi(m.theta - x_(2));
-    Eigen::MatrixXd H, R;
-    observation(m.lag, 3, H, R);
-    const double s = (H.row(2) * P_ * H.row(2).transpose())(0, 0) + R(2, 2);
+    const Observation o = observation(m.lag);
+    const double s = (o.H.row(2) * P_ * o.H.row(2).transpose()).value() + o.variance(2);
     use_heading = std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
     heading_maneuver =
         !use_heading && p_.maneuver_omega_change > 0 &&
@@ -192,17 +191,13 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     }
   }
 
-  const int rows = use_heading ? 3 : 2;
-  Eigen::MatrixXd H, R;
-  observation(m.lag, rows, H, R);
-  Eigen::VectorXd innovation(rows);
-  innovation(0) = dx;
-  innovation(1) = dy;
+  const Observation o = observation(m.lag);
   if (use_heading) {
     since_heading_ = 0;
-    innovation(2) = wrapToPi(m.theta - x_(2));
+    applyUpdate<3>(Eigen::Vector3d(dx, dy, wrapToPi(m.theta - x_(2))), o);
+  } else {
+    applyUpdate<2>(Eigen::Vector2d(dx, dy), o);
   }
-  applyUpdate(innovation, H, R);
   if (maneuver) return GateResult::Maneuver;
   if (heading_maneuver) return GateResult::HeadingManeuver;
   return (m.heading_valid && !use_heading) ? GateResult::HeadingRejected : GateResult::Accepted;

@@ -107,9 +107,16 @@ class RobotFilter {
  private:
   void start(const RobotMeasurement& m);
   void startHeading(double theta);
-  void applyUpdate(const Eigen::VectorXd& innovation, const Eigen::MatrixXd& H, const Eigen::MatrixXd& R);
-  // Observation matrix and noise of x, y, θ measured `lag` seconds ago (the first `rows`).
-  void observation(double lag, int rows, Eigen::MatrixXd& H, Eigen::MatrixXd& R) const;
+  // Observation matrix and noise variances of x, y, θ measured `lag` seconds ago; an update
+  // of the position alone takes their first two rows. Fixed sizes: no allocation per update.
+  struct Observation {
+    Eigen::Matrix<double, 3, 6> H;
+    Eigen::Vector3d variance;
+  };
+  Observation observation(double lag) const;
+  // The Kalman update with the first Rows (2: x, y; 3: and θ) of the observation.
+  template <int Rows>
+  void applyUpdate(const Eigen::Matrix<double, Rows, 1>& innovation, const Observation& o);
 
   RobotFilterParams p_;
   State x_ = State::Zero();
