@@ -27,7 +27,13 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
       if (rim) radius_px = std::max(radius_px, (*rim - *pixel).norm());
     }
     if (!inside) continue;
-    ++total_.visible;
+    MeasuredRate& own = by_robot_[{robot.team, robot.id}];
+    // Each outcome counts in the total and in the robot's own counts.
+    const auto count = [&](std::int64_t MeasuredRate::*field) {
+      ++(total_.*field);
+      ++(own.*field);
+    };
+    count(&MeasuredRate::visible);
 
     bool measured = false, near = false;
     for (const RobotDetection& d : detections) {
@@ -36,16 +42,16 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
       measured = measured || (d.team == robot.team && d.id == robot.id);
     }
     if (measured) {
-      ++total_.measured;
+      count(&MeasuredRate::measured);
       continue;
     }
     if (near) {
-      ++total_.wrong_id;
+      count(&MeasuredRate::wrong_id);
       continue;
     }
     bool segmented = false;
     for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - *pixel).norm() <= radius_px;
-    ++(segmented ? total_.identification_rejected : total_.nothing_segmented);
+    count(segmented ? &MeasuredRate::identification_rejected : &MeasuredRate::nothing_segmented);
   }
 }
 

@@ -90,6 +90,39 @@ cv::Vec3b scaledToV(const cv::Vec3b& p, int from, int to) {
           cv::saturate_cast<std::uint8_t>(p[2] * f)};
 }
 
+// A sample with a channel at the sensor's ceiling shows a hue that is not its colour's:
+// under a bright lamp a yellow marker's red saturates, the sample reads 51° where the same
+// print under the mean light reads 38°, and a pink reads bluer than it is. The clipped
+// channel was at least the ceiling, by how much the image does not say; the light does
+// bound it: a sample whose block is `over` times the mean light level shows the colour
+// `over` times brighter than at the mean, where it must be classified unclipped. So the
+// colours it stands for are the sample with its clipped channels 1.1, 1.2, ... up to
+// `over` (at least kMinUnclip, at most kMaxUnclip) times the ceiling, filed under the
+// sample's V raised by as much (the V axis ends at 255, as the run-time V does). They
+// widen the class's body and Gaussian along the clipping direction.
+constexpr int kClipLevel = 250;
+constexpr double kMinUnclip = 1.1, kMaxUnclip = 2.0, kUnclipStep = 0.1;
+
+void appendUnclippedVariants(const SamplePixel& sample, std::vector<Hsv>& hsv, std::vector<Lab>& lab) {
+  const cv::Vec3b& p = sample.bgr;
+  const int raw_v = std::max({p[0], p[1], p[2]});
+  if (raw_v < kClipLevel || sample.v == 0) return;
+  const double over = std::clamp(static_cast<double>(raw_v) / sample.v, kMinUnclip, kMaxUnclip);
+  for (double u = 1.0 + kUnclipStep; u <= over + 1e-9; u += kUnclipStep) {
+    double c[3];
+    for (int k = 0; k < 3; ++k) c[k] = p[k] >= kClipLevel ? p[k] * u : p[k];
+    // Its V where the table files it: the sample's, as bright again as the channel was clipped.
+    const double v = std::min(255.0, std::round(sample.v * u));
+    const double f = v / std::max({c[0], c[1], c[2]});
+    const cv::Vec3b q(cv::saturate_cast<std::uint8_t>(c[0] * f), cv::saturate_cast<std::uint8_t>(c[1] * f),
+                      cv::saturate_cast<std::uint8_t>(c[2] * f));
+    Hsv h = bgrToHsv(q[0], q[1], q[2]);
+    h.v = v;
+    hsv.push_back(h);
+    lab.push_back(bgrToLab(q[0], q[1], q[2]));
+  }
+}
+
 double circularMeanDegrees(const std::vector<Hsv>& pixels) {
   double sx = 0, sy = 0;
   for (const Hsv& p : pixels) {
@@ -551,6 +584,9 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       }
     }
     st.valid = static_cast<std::uint32_t>(valid.size());
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      if (centre.valid[i]) appendUnclippedVariants(pixels[i], valid, valid_lab);
+    }
     fitGaussian(valid, params, st);
 
     // The body: per HS cell, the V bins between its lowest and highest valid pixel.

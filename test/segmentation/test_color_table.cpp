@@ -244,6 +244,26 @@ TEST(ColorTable, AStrokeOverAMarkersRimKeepsTheMarkersColour) {
   EXPECT_EQ(table.classify(top[0], top[1], top[2]), ColorClass::None);
 }
 
+TEST(ColorTable, ASampleClippedUnderABrightLampStandsForItsUnclippedColour) {
+  // A yellow print whose true colour is (43, 222, 331): under a lamp 1.3 times the mean
+  // light its red saturates and it reads (43, 222, 255) at hue 51°, filed under the
+  // normalised V 196 (255 / 1.3). Under the mean light the same print reads (33, 171, 255),
+  // hue 37°, unclipped: the table must call that yellow, yet keep the orange ball's colour
+  // (hue 27°) orange.
+  ClassSamplePixels samples;
+  for (int i = 0; i < 30; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Yellow].push_back({cv::Vec3b(43 + d, 222 - d, 255), 196});
+    samples[ColorClass::Orange].push_back({cv::Vec3b(8 + d, 93 - d, 203 + d), 203});
+  }
+  const ColorTable table = ColorTable::buildFromSamplePixels(samples);
+  EXPECT_EQ(table.classify(33, 171, 255), ColorClass::Yellow);
+  EXPECT_EQ(table.classify(43, 222, 255, 0, 197), ColorClass::Yellow);  // the sample, under its lamp's gain
+  EXPECT_EQ(table.classify(8, 93, 203), ColorClass::Orange);
+  // The statistics count real samples only.
+  EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::Yellow)].valid, 30u);
+}
+
 TEST(ColorTable, ThresholdsCutBetweenSamplesAndPerClassOverridesApply) {
   // Two samples: their mean lies halfway, so each is at half their Lab distance from it.
   const cv::Vec3b x(200, 100, 50), y(200, 110, 50);

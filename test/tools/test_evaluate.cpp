@@ -98,6 +98,16 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
             m["visible"].get<int>());
   EXPECT_GE(m["visible"].get<int>(), 2 * kFrames);  // camera 0 sees about half of the 10 robots
   EXPECT_GE(m["rate"].get<double>(), 0.95);
+  // Per robot: the counts add up to the totals, and every robot is one of the 5 + 5 in play.
+  int visible = 0, measured = 0;
+  for (const json& robot : m["by_robot"]) {
+    EXPECT_TRUE(robot["team"] == "blue" || robot["team"] == "yellow") << robot.dump();
+    EXPECT_LT(robot["id"].get<int>(), 5) << robot.dump();
+    visible += robot["visible"].get<int>();
+    measured += robot["measured"].get<int>();
+  }
+  EXPECT_EQ(visible, m["visible"].get<int>());
+  EXPECT_EQ(measured, m["measured"].get<int>());
   EXPECT_NE(r.output.find("measured: "), std::string::npos);
   EXPECT_EQ(report["frames_processed"].get<int>(), kFrames);
   EXPECT_EQ(report["frames_scored"].get<int>(), kFrames);

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -43,11 +45,14 @@ class MeasuredRateCounter {
            const std::vector<Eigen::Vector2d>& marker_regions);
 
   const MeasuredRate& total() const { return total_; }
+  // The same counts per robot (team, id): which robot a scene loses, not only how often.
+  const std::map<std::pair<Team, int>, MeasuredRate>& byRobot() const { return by_robot_; }
 
  private:
   RobotBody body_;
   double match_distance_;
   MeasuredRate total_;
+  std::map<std::pair<Team, int>, MeasuredRate> by_robot_;
 };
 
 }  // namespace soccer_vision

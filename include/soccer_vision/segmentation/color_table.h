@@ -6,12 +6,15 @@
 //  1. mean L*a*b* and circular mean hue of all its sample pixels;
 //  2. a sample is *valid* when its CIE76 distance to the mean L*a*b* < threshold_lab and
 //     its circular hue distance to the mean hue < threshold_h;
-//  3. each valid pixel falls into an HS cell; each HS cell records [Vmin, Vmax] of its
+//  3. a valid sample with a channel at the sensor's ceiling also stands for the colours it
+//     would show unclipped, up to as much brighter as its block's light is over the mean
+//     (docs/segmentation.md): variants that join the valid pixels below;
+//  4. each valid pixel falls into an HS cell; each HS cell records [Vmin, Vmax] of its
 //     valid pixels, closed in HS (hs_closing: unsampled cells next to sampled ones and
 //     inside the class's Gaussian take their V range), and the class claims every
 //     (h, s, v) cell of that HS cell whose V bin lies between bin(Vmin - v_margin) and
 //     bin(Vmax + v_margin): a closed 3-D body in HSV;
-//  4. a cell claimed by several classes goes to argmax_c p(c | h, s, v) of a Gaussian
+//  5. a cell claimed by several classes goes to argmax_c p(c | h, s, v) of a Gaussian
 //     naive Bayes per class (independent H, S, V; means and variances of the valid
 //     pixels, circular for H; equal priors), evaluated at the cell centre.
 // Cells no class claims are ColorClass::None.

@@ -624,7 +624,17 @@ int evaluateBag(const Options& o) {
         skipped.unsupported_encoding, skipped.truncated, skipped.other_format);
   }
   json report = scoreJson(main.evaluation);
-  if (setup.truth) report["measured"] = measuredJson(main.measured.total());
+  if (setup.truth) {
+    report["measured"] = measuredJson(main.measured.total());
+    json by_robot = json::array();
+    for (const auto& [key, m] : main.measured.byRobot()) {
+      json row = measuredJson(m);
+      row["team"] = sv::teamName(key.first);
+      row["id"] = key.second;
+      by_robot.push_back(row);
+    }
+    report["measured"]["by_robot"] = by_robot;
+  }
   report["bag"] = o.bag;
   report["frame_step"] = o.frame_step;
   report["window_side"] = o.window_side;
