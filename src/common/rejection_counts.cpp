@@ -22,6 +22,8 @@ const char* rejectionCauseName(RejectionCause cause) {
       return "confidence";
     case RejectionCause::Conflict:
       return "conflict";
+    case RejectionCause::BallOnRobot:
+      return "ball_on_robot";
     case RejectionCause::BallOffField:
       return "ball_off_field";
     case RejectionCause::BallArea:

@@ -8,12 +8,32 @@
 namespace soccer_vision {
 
 BallDetector::BallDetector(const CameraModel& camera, const FieldGeometry& field,
-                           const BallDetectionParams& params)
-    : camera_(camera), field_(field), params_(params) {}
+                           const BallDetectionParams& params, const RobotTop& robot_top)
+    : camera_(camera), field_(field), params_(params), robot_top_(robot_top) {}
+
+bool BallDetector::onRobotTop(const Eigen::Vector2d& pixel, const std::vector<RobotDetection>& robots) const {
+  if (params_.robot_top_fraction <= 0) return false;
+  for (const RobotDetection& robot : robots) {
+    // The top's radius in the image: its rim's farthest of 4 points from the centre's pixel.
+    const Eigen::Vector3d centre(robot.x, robot.y, robot_top_.height);
+    const auto middle = camera_.project(centre);
+    if (!middle) continue;
+    double radius_px = 0;
+    for (const Eigen::Vector3d& offset :
+         {Eigen::Vector3d(robot_top_.radius, 0, 0), Eigen::Vector3d(-robot_top_.radius, 0, 0),
+          Eigen::Vector3d(0, robot_top_.radius, 0), Eigen::Vector3d(0, -robot_top_.radius, 0)}) {
+      if (const auto rim = camera_.project(centre + offset))
+        radius_px = std::max(radius_px, (*rim - *middle).norm());
+    }
+    if ((pixel - *middle).norm() < params_.robot_top_fraction * radius_px) return true;
+  }
+  return false;
+}
 
 std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regions,
                                                 const std::vector<bool>& region_used,
-                                                RejectionCounts* rejections) const {
+                                                RejectionCounts* rejections,
+                                                const std::vector<RobotDetection>& robots) const {
   RejectionCounts rejected;
   // Orange fragments near each other are one ball: a ball faster than its own diameter per
   // exposure is a streak that segmentation may cut into pieces (its faint middle).
@@ -78,6 +98,10 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     const auto p = camera_.pixelToField(pixel, params_.radius);
     if (!p) {
       rejected.add(RejectionCause::Projection);
+      continue;
+    }
+    if (onRobotTop(pixel, robots)) {
+      rejected.add(RejectionCause::BallOnRobot);
       continue;
     }
     if (!field_.onCarpet(p->x(), p->y(), params_.field_margin)) {

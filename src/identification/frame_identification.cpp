@@ -4,7 +4,9 @@ namespace soccer_vision {
 
 FrameIdentifier::FrameIdentifier(const CameraModel& camera, const PatternSet& patterns,
                                  const FieldGeometry& field, const IdentificationParams& params)
-    : params_(params), robots_(camera, patterns, params.robots), balls_(camera, field, params.balls) {}
+    : params_(params),
+      robots_(camera, patterns, params.robots),
+      balls_(camera, field, params.balls, {patterns.robot_radius, patterns.robot_height}) {}
 
 void FrameIdentifier::setParams(const IdentificationParams& params) {
   params_ = params;
@@ -22,7 +24,7 @@ CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regio
   RobotIdentificationResult robots = robots_.identify(regions, mosaic);
   out.robots = std::move(robots.robots);
   out.rejections = robots.rejections;
-  out.balls = balls_.detect(regions, robots.region_used, &out.rejections);
+  out.balls = balls_.detect(regions, robots.region_used, &out.rejections, out.robots);
   if (confirmed) {
     confirmed->clear();
     for (std::size_t r = 0; r < robots.region_confidence.size(); ++r) {

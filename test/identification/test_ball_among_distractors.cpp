@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "region_builder.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/identification/ball_detection.h"
 #include "soccer_vision/tracking/tracker.h"
 
@@ -140,4 +141,31 @@ TEST(BallAmongDistractors, BallPutIntoPlayAfterTheDistractorsTakesOverAtOnce) {
               fig.frames_with_ball, fig.false_primary);
   EXPECT_EQ(fig.false_primary, 0);
   EXPECT_EQ(fig.found, fig.frames_with_ball);
+}
+
+TEST(BallAmongDistractors, AnOrangeFringeOnARobotsTopIsNoBall) {
+  // A robot identified at (1.0, 0.5); an orange speck of ball size on its top (a demosaic
+  // fringe at a marker's edge, 3 cm from its centre), and the real ball beside it (its
+  // centre 0.12 m away: touching the robot's side). The speck projects to the floor as a
+  // plausible ball; on the robot's top it is none. The ball beside it stays a candidate.
+  const double top = PatternSet::twoTag().robot_height;
+  RobotDetection robot;
+  robot.x = 1.0;
+  robot.y = 0.5;
+  const auto speck_px = kCamera.project(Eigen::Vector3d(1.03, 0.5, top));
+  const auto speck_floor = kCamera.pixelToField(*speck_px, 0.0215);
+  std::vector<Region> regions{ballRegion(kCamera, {speck_floor->x(), speck_floor->y(), 0.0215}),
+                              ballRegion(kCamera, {1.0, 0.62, 0.0215})};
+  const BallDetector detector(kCamera, kField);
+  EXPECT_EQ(detector.detect(regions).size(), 2u);  // without the robot both look like balls
+
+  RejectionCounts rejected;
+  const auto balls = detector.detect(regions, {}, &rejected, {robot});
+  ASSERT_EQ(balls.size(), 1u);
+  EXPECT_LT(std::hypot(balls[0].x - 1.0, balls[0].y - 0.62), 0.005);
+  EXPECT_EQ(rejected[RejectionCause::BallOnRobot], 1);
+
+  BallDetectionParams off;
+  off.robot_top_fraction = 0;
+  EXPECT_EQ(BallDetector(kCamera, kField, off).detect(regions, {}, nullptr, {robot}).size(), 2u);
 }

@@ -20,6 +20,7 @@ enum class RejectionCause {
   Area,            // a marker's pixel area outside [1/area_ratio_gate, area_ratio_gate] x expected
   Confidence,      // plausible, but confidence below min_confidence
   Conflict,        // its regions or its (team, id) went to a better robot
+  BallOnRobot,     // ball cluster inside an identified robot's top in the image
   BallOffField,    // ball cluster beyond the carpet + field_margin
   BallArea,        // ball area outside [area_ratio_min, area_ratio_max] x expected
   BallShape,       // ball width outside [width_ratio_min, width_ratio_max] x expected, or longer than

@@ -6,7 +6,9 @@
 // the image (its silhouette projected through the camera model) and its shape is a ball's:
 // its narrow width (from the second moments) near the projected diameter (a cable or a
 // thin stripe is not a ball; a half-hidden ball still is), elongated at most as a blurred
-// streak is. Several candidates may remain; each gets a confidence from its area ratio,
+// streak is, and not on a robot: its centre not inside the image of an identified robot's
+// top (a ball on the floor cannot be seen through one; Bayer fringes and markers' rims on a
+// top can be orange). Several candidates may remain; each gets a confidence from its area ratio,
 // weighted down outside the playing area (a ball there is out of play; orange shoes and
 // clothes stand there), best first.
 #pragma once
@@ -34,26 +36,43 @@ struct BallDetectionParams {
   double width_ratio_max = 1.7;
   double max_elongation = 5.0;       // major / minor std-dev (a 15 m/s ball over 6 ms: 2.6)
   double outside_play_weight = 0.5;  // confidence factor beyond the lines (orders candidates)
-  int max_candidates = 4;            // best first; 0 = all
+  // A cluster whose centre lies within this fraction of an identified robot's top radius
+  // from its centre, in the image, is on that robot (a ball beside a robot, half under the
+  // top's rim, has its visible centre beyond 0.8 of it); 0 = off.
+  double robot_top_fraction = 0.8;
+  int max_candidates = 4;  // best first; 0 = all
   double min_confidence = 0.02;
+};
+
+// The robots' top as the pattern gives it: what an orange cluster must not lie on.
+struct RobotTop {
+  double radius = 0.090;  // m
+  double height = 0.150;  // m
 };
 
 class BallDetector {
  public:
-  BallDetector(const CameraModel& camera, const FieldGeometry& field, const BallDetectionParams& params = {});
+  BallDetector(const CameraModel& camera, const FieldGeometry& field, const BallDetectionParams& params = {},
+               const RobotTop& robot_top = {});
   const BallDetectionParams& params() const { return params_; }
   void setParams(const BallDetectionParams& params) { params_ = params; }
 
   // `region_used`: per region, true when a robot took it (empty = none taken).
   // `rejections`, when given: clusters not reported are added by cause.
+  // `robots`: the robots identified in the same frame, whose tops no ball lies on.
   std::vector<BallDetection> detect(const std::vector<Region>& regions,
                                     const std::vector<bool>& region_used = {},
-                                    RejectionCounts* rejections = nullptr) const;
+                                    RejectionCounts* rejections = nullptr,
+                                    const std::vector<RobotDetection>& robots = {}) const;
 
  private:
+  // Whether an image point lies within robot_top_fraction of one of the robots' tops.
+  bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<RobotDetection>& robots) const;
+
   CameraModel camera_;
   FieldGeometry field_;
   BallDetectionParams params_;
+  RobotTop robot_top_;
 };
 
 }  // namespace soccer_vision
