@@ -10,7 +10,7 @@ MeasuredRateCounter::MeasuredRateCounter(RobotBody body, double match_distance)
 
 void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camera,
                               const std::vector<RobotDetection>& detections,
-                              const std::vector<Eigen::Vector2d>& marker_regions) {
+                              const std::vector<Eigen::Vector2d>& marker_regions, int camera_id) {
   for (const RobotRecord& robot : truth.robots) {
     if (!robot.visible.value_or(false)) continue;
     // Whole in this camera's image: its top's rim projects inside (4 points suffice here).
@@ -45,13 +45,20 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
       count(&MeasuredRate::measured);
       continue;
     }
+    const auto miss = [&](std::int64_t MeasuredRate::*field, const char* cause) {
+      count(field);
+      misses_.push_back({truth.stamp, camera_id, robot.team, robot.id, cause, *pixel});
+    };
     if (near) {
-      count(&MeasuredRate::wrong_id);
+      miss(&MeasuredRate::wrong_id, "wrong_id");
       continue;
     }
     bool segmented = false;
     for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - *pixel).norm() <= radius_px;
-    count(segmented ? &MeasuredRate::identification_rejected : &MeasuredRate::nothing_segmented);
+    if (segmented)
+      miss(&MeasuredRate::identification_rejected, "identification_rejected");
+    else
+      miss(&MeasuredRate::nothing_segmented, "nothing_segmented");
   }
 }
 

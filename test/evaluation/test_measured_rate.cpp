@@ -50,7 +50,8 @@ TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
   // A team marker 40 mm from yellow 2's centre; none near yellow 3 (the one 0.5 m away
   // is another robot's business).
   const std::vector<Eigen::Vector2d> regions = {pixelOf(-3.0, -1.0, 0.04), pixelOf(-1.5, -2.0)};
-  counter.add(truth, camera, detections, regions);
+  truth.stamp = 12.5;
+  counter.add(truth, camera, detections, regions, 3);
 
   const MeasuredRate& m = counter.total();
   EXPECT_EQ(m.visible, 4);
@@ -59,6 +60,19 @@ TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
   EXPECT_EQ(m.identification_rejected, 1);
   EXPECT_EQ(m.nothing_segmented, 1);
   EXPECT_DOUBLE_EQ(m.rate(), 0.25);
+  // Per robot, and each miss where and why.
+  EXPECT_EQ(counter.byRobot().at({Team::Blue, 1}).wrong_id, 1);
+  EXPECT_EQ(counter.byRobot().at({Team::Yellow, 2}).identification_rejected, 1);
+  EXPECT_EQ(counter.byRobot().count({Team::Yellow, 4}), 0u);  // never visible
+  ASSERT_EQ(counter.misses().size(), 3u);
+  const MissedRobot& rejected = counter.misses()[1];
+  EXPECT_EQ(rejected.team, Team::Yellow);
+  EXPECT_EQ(rejected.id, 2);
+  EXPECT_STREQ(rejected.cause, "identification_rejected");
+  EXPECT_DOUBLE_EQ(rejected.stamp, 12.5);
+  EXPECT_EQ(rejected.camera_id, 3);
+  EXPECT_LT((rejected.pixel - pixelOf(-3.0, -1.0)).norm(), 1e-9);
+  EXPECT_STREQ(counter.misses()[2].cause, "nothing_segmented");
 }
 
 TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {

@@ -81,7 +81,7 @@ class Evaluate : public ::testing::Test {
 
 TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
   const ToolRun r = run("--bag " + kDir + "/s.bag --results " + kDir + "/results.jsonl --json " + kDir +
-                        "/report.json --plots " + kDir + "/plots");
+                        "/report.json --plots " + kDir + "/plots --misses " + kDir + "/misses.jsonl");
   ASSERT_EQ(r.status, 0) << r.output;
   std::printf("%s", r.output.c_str());
   const json report = readJson(kDir + "/report.json");
@@ -108,6 +108,17 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
   }
   EXPECT_EQ(visible, m["visible"].get<int>());
   EXPECT_EQ(measured, m["measured"].get<int>());
+  // --misses: one line per robot-frame not measured, with its cause.
+  std::ifstream misses(kDir + "/misses.jsonl");
+  int lines = 0;
+  for (std::string line; std::getline(misses, line); ++lines) {
+    const json miss = json::parse(line);
+    EXPECT_TRUE(miss["cause"] == "wrong_id" || miss["cause"] == "identification_rejected" ||
+                miss["cause"] == "nothing_segmented")
+        << line;
+    EXPECT_EQ(miss["camera"].get<int>(), 0) << line;
+  }
+  EXPECT_EQ(lines, m["visible"].get<int>() - m["measured"].get<int>());
   EXPECT_NE(r.output.find("measured: "), std::string::npos);
   EXPECT_EQ(report["frames_processed"].get<int>(), kFrames);
   EXPECT_EQ(report["frames_scored"].get<int>(), kFrames);

@@ -30,6 +30,16 @@ struct MeasuredRate {
   double rate() const { return visible > 0 ? static_cast<double>(measured) / visible : 1.0; }
 };
 
+// One visible robot a camera frame did not measure: where and why, to look at.
+struct MissedRobot {
+  double stamp = 0;  // the frame's capture stamp
+  int camera_id = 0;
+  Team team = Team::Blue;
+  int id = 0;
+  const char* cause = "";       // "wrong_id", "identification_rejected" or "nothing_segmented"
+  Eigen::Vector2d pixel{0, 0};  // its top's centre in the image
+};
+
 struct RobotBody {
   double top_height = 0.15;  // m: the marker plane
   double radius = 0.09;      // m
@@ -42,17 +52,20 @@ class MeasuredRateCounter {
   // One processed camera frame: the truth at its stamp, the camera, the frame's own robot
   // detections and the image centroids of its regions of marker colours (team and id).
   void add(const FrameRecord& truth, const CameraModel& camera, const std::vector<RobotDetection>& detections,
-           const std::vector<Eigen::Vector2d>& marker_regions);
+           const std::vector<Eigen::Vector2d>& marker_regions, int camera_id = 0);
 
   const MeasuredRate& total() const { return total_; }
   // The same counts per robot (team, id): which robot a scene loses, not only how often.
   const std::map<std::pair<Team, int>, MeasuredRate>& byRobot() const { return by_robot_; }
+  // Every miss, in the order added.
+  const std::vector<MissedRobot>& misses() const { return misses_; }
 
  private:
   RobotBody body_;
   double match_distance_;
   MeasuredRate total_;
   std::map<std::pair<Team, int>, MeasuredRate> by_robot_;
+  std::vector<MissedRobot> misses_;
 };
 
 }  // namespace soccer_vision

@@ -80,7 +80,7 @@ using nlohmann::json;
 namespace {
 
 struct Options {
-  std::string bag, truth, results, json, plots, markdown, title, patterns = "two_tag";
+  std::string bag, truth, results, misses, json, plots, markdown, title, patterns = "two_tag";
   std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
   std::vector<double> measurement_offsets;  // [s]
   std::vector<int> cameras;
@@ -97,6 +97,9 @@ void addOptions(CLI::App& app, Options& o) {
       "ground truth JSON Lines (default: the bag's ground-truth topics, else truth.jsonl beside it)");
   app.add_option("--results", o.results,
                  "write (or with --results-only read) the tracker's results, JSON Lines");
+  app.add_option(
+      "--misses", o.misses,
+      "write every visible robot a frame did not measure (stamp, camera, robot, cause, pixel), JSON Lines");
   app.add_option("--json", o.json, "write the report as JSON");
   app.add_option("--plots", o.plots, "write the report's figures (PNG) into this directory");
   app.add_option("--markdown", o.markdown, "write the report as a Markdown section");
@@ -146,6 +149,7 @@ std::string combinationProblem(const Options& o) {
     return "--bag FILE is required";
   }
   if (!o.colors.empty() && !o.samples.empty()) return "give --colors or --samples, not both";
+  if (o.results_only && !o.misses.empty()) return "--misses needs a run of the pipeline, not --results-only";
   if (!o.field_points.empty() && !o.camera_poses.empty())
     return "give --field-points or --camera-pose, not both";
   return "";
@@ -362,7 +366,7 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
           if (sv::isMarkerColor(r.color) && r.color != sv::ColorClass::Orange)
             marker_regions.emplace_back(r.cx, r.cy);
         }
-        s.measured.add(*truth, pc.model, f.detections.robots, marker_regions);
+        s.measured.add(*truth, pc.model, f.detections.robots, marker_regions, camera.id);
         if (!f.tracker_reset) s.evaluation.addPrediction(*truth, f.prediction);
       },
       &setup.problems);
@@ -452,6 +456,19 @@ json runSummary(const RunStats& s) {
           {"robot_precision", s.evaluation.total().robotPrecision()},
           {"robot_position_rmse_mm", 1e3 * s.evaluation.total().robotPositionRmse()},
           {"prediction_rmse_mm", 1e3 * s.evaluation.predictionRmse()}};
+}
+
+// One JSON object per line: the frame to open (stamp, camera), whom it lost and why.
+void writeMisses(const std::string& path, const std::vector<sv::MissedRobot>& misses) {
+  std::ofstream out(path);
+  for (const sv::MissedRobot& m : misses) {
+    out << json{{"stamp", m.stamp}, {"camera", m.camera_id}, {"team", sv::teamName(m.team)},
+                {"id", m.id},       {"cause", m.cause},      {"u", m.pixel.x()},
+                {"v", m.pixel.y()}}
+               .dump()
+        << "\n";
+  }
+  if (!out) throw std::runtime_error(path + ": cannot write the misses");
 }
 
 // --- Plots ------------------------------------------------------------------------
@@ -703,6 +720,7 @@ int evaluateBag(const Options& o) {
     writePlots(o.plots, main.evaluation, &main, predictions, setup.field);
   }
   if (!o.json.empty()) writeJson(o.json, report);
+  if (!o.misses.empty()) writeMisses(o.misses, main.measured.misses());
   if (!o.markdown.empty()) {
     std::ofstream md(o.markdown);
     md << sv::markdownReport(report, o.title.empty() ? o.bag : o.title);
