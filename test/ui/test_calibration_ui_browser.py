@@ -195,6 +195,15 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
 
     def test_2_walk_through_live_view_colour_and_field_calibration(self):
         d = self.driver
+        # The walk-through's time, phase by phase, as a user at a laptop would spend it (the
+        # script's waits for frames included, its 3 s windows of measurement excluded).
+        phases, mark = [], [time.time()]
+
+        def phase(name):
+            now = time.time()
+            phases.append((name, now - mark[0]))
+            mark[0] = now
+
         d.get(self.base + "/")
         token = d.find_element(By.ID, "token")
         token.send_keys(TOKEN + Keys.TAB)  # leaving the field stores the token (change event)
@@ -202,9 +211,11 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
 
         # Live view: the demo's robots, tracked with the start-up table.
         wait_for(lambda: self.ui("window.svUi.liveFrames") >= 3, 60, "live frames")
+        phase("page and live view")
         before_start = rospy.get_time()
         self.views_over(10, "robots in the live view")
         before_end = rospy.get_time()
+        mark[0] = time.time()
         self.click("ov-lines")
         time.sleep(1.0)
         self.shot("01_live_view.png")
@@ -214,6 +225,7 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
         self.shot("02_live_classification.png")
         self.click("ov-classification")
 
+        phase("overlays")
         # Colour calibration: freeze, paint strokes per class on the frozen frame's markers.
         d.find_element(By.CSS_SELECTOR, "button[data-tab=colours]").click()
         self.click("freeze")
@@ -272,6 +284,7 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
                  or any("saved to" in v.get("colour table", "") for v in self.diagnostics.values()), 10,
                  "the Segmentation reporting the saved UI table")
 
+        phase("colour calibration: freeze, %d strokes, calibrate, save" % strokes)
         # The live view with the UI's table: robots measured in the frames after it.
         d.find_element(By.CSS_SELECTOR, "button[data-tab=live]").click()
         self.click("ov-lines")
@@ -294,6 +307,7 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
         self.assertGreaterEqual(after, before - 0.1, summary)
 
         # Field calibration: the landmarks where the current pose puts them, clicked, solved, saved.
+        mark[0] = time.time()
         d.find_element(By.CSS_SELECTOR, "button[data-tab=field]").click()
         self.click("freeze-field")
         wait_for(lambda: self.ui("window.svUi.frozenOverlay && window.svUi.landmarks.length"), 20, "landmarks")
@@ -314,12 +328,16 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
         self.click("save-pose")
         pose = wait_for(lambda: self.ui("window.svUi.lastPoseSave"), 20, "the saved pose")
         self.assertTrue(os.path.exists(pose["path"]), pose)
+        phase("field calibration: freeze, %d landmarks, solve, save" % len(landmarks[:6]))
         self.shot("06_field_calibration.png")
 
         d.find_element(By.CSS_SELECTOR, "button[data-tab=status]").click()
         wait_for(lambda: self.js("return document.querySelectorAll('#status-table tbody tr').length;") >= 4, 20,
                  "the status table")
+        phase("status")
         self.shot("07_status.png")
+        print("walk-through: %s; total %.1f s" % (
+            ", ".join("%s %.1f s" % p for p in phases), sum(t for _, t in phases)))
 
 
 if __name__ == "__main__":
