@@ -35,21 +35,36 @@ constexpr std::size_t kMaxPatternIds = 256;
 }
 
 // `limit`: metres for lengths (nothing on a robot is a metre away), degrees for angles.
-double number(const YAML::Node& n, const char* key, const std::string& source, double limit = 1.0) {
-  if (!n[key]) fail(source, std::string("missing '") + key + "'");
-  double v = 0;
+// `name` is how the error messages call the value.
+double scalar(const YAML::Node& v, const std::string& name, const std::string& source, double limit) {
+  double x = 0;
   try {
-    v = n[key].as<double>();
+    x = v.as<double>();
   } catch (const YAML::Exception&) {
-    fail(source, std::string("'") + key + "' is not a number");
+    fail(source, "'" + name + "' is not a number");
   }
   // NaN would pass every comparison below.
-  if (!std::isfinite(v) || std::abs(v) > limit) {
+  if (!std::isfinite(x) || std::abs(x) > limit) {
     std::ostringstream os;
-    os << "'" << key << "' must be a finite number within +-" << limit;
+    os << "'" << name << "' must be a finite number within +-" << limit;
     fail(source, os.str());
   }
-  return v;
+  return x;
+}
+
+double number(const YAML::Node& n, const char* key, const std::string& source, double limit = 1.0) {
+  if (!n[key]) fail(source, std::string("missing '") + key + "'");
+  return scalar(n[key], key, source, limit);
+}
+
+// A marker plane: above the carpet and below half a metre (the league's robots are at most
+// 0.15 m high).
+constexpr double kMaxRobotHeight = 0.5;
+
+double height(const YAML::Node& v, const std::string& name, const std::string& source) {
+  const double h = scalar(v, name, source, kMaxRobotHeight);
+  if (h <= 0) fail(source, "'" + name + "' must be positive");
+  return h;
 }
 
 // A typo ('slot:', 'id:') once made a team-only pattern silently: every key must be known.
@@ -61,6 +76,21 @@ void checkKeys(const YAML::Node& n, const std::set<std::string>& known, const st
     std::string list;
     for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
     fail(source, "unknown key '" + key + "' in " + where + " (known: " + list + ")");
+  }
+}
+
+// `robot_height: 0.150` (both teams) or `robot_height: {blue: 0.148, yellow: 0.135}`.
+void parseHeights(const YAML::Node& n, PatternSet& p, const std::string& source) {
+  if (n.IsScalar()) {
+    p.robot_height = height(n, "robot_height", source);
+    return;
+  }
+  if (!n.IsMap()) fail(source, "'robot_height' must be a number or a map {blue: h, yellow: h}");
+  checkKeys(n, {"blue", "yellow"}, "'robot_height'", source);
+  for (const Team team : {Team::Blue, Team::Yellow}) {
+    const std::string key(teamName(team));
+    if (!n[key]) fail(source, "'robot_height' as a map must give both teams (missing '" + key + "')");
+    p.team_height[static_cast<std::size_t>(team)] = height(n[key], "robot_height." + key, source);
   }
 }
 
@@ -162,9 +192,8 @@ PatternSet parsePatternSet(const std::string& yaml_text, const std::string& sour
   PatternSet p;
   p.name = root["name"] ? root["name"].as<std::string>() : source;
   if (root["robot_radius"]) p.robot_radius = number(root, "robot_radius", source);
-  if (root["robot_height"]) p.robot_height = number(root, "robot_height", source);
+  if (root["robot_height"]) parseHeights(root["robot_height"], p, source);
   if (p.robot_radius <= 0) fail(source, "'robot_radius' must be positive");
-  if (p.robot_height <= 0) fail(source, "'robot_height' must be positive");
   if (!root["team_marker"]) fail(source, "missing 'team_marker'");
   p.team_marker = parseShape(root["team_marker"], source);
   if (root["slots"]) {

@@ -14,7 +14,7 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
   for (const RobotRecord& robot : truth.robots) {
     if (!robot.visible.value_or(false)) continue;
     // Whole in this camera's image: its top's rim projects inside (4 points suffice here).
-    const Eigen::Vector3d centre(robot.x, robot.y, body_.top_height);
+    const Eigen::Vector3d centre(robot.x, robot.y, body_.top_height[static_cast<std::size_t>(robot.team)]);
     const auto pixel = camera.project(centre);
     if (!pixel || !camera.inImage(*pixel)) continue;
     double radius_px = 0;

@@ -15,7 +15,7 @@ bool BallDetector::onRobotTop(const Eigen::Vector2d& pixel, const std::vector<Ro
   if (params_.robot_top_fraction <= 0) return false;
   for (const RobotDetection& robot : robots) {
     // The top's radius in the image: its rim's farthest of 4 points from the centre's pixel.
-    const Eigen::Vector3d centre(robot.x, robot.y, robot_top_.height);
+    const Eigen::Vector3d centre(robot.x, robot.y, robot_top_.height[static_cast<std::size_t>(robot.team)]);
     const auto middle = camera_.project(centre);
     if (!middle) continue;
     double radius_px = 0;

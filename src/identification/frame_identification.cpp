@@ -6,7 +6,7 @@ FrameIdentifier::FrameIdentifier(const CameraModel& camera, const PatternSet& pa
                                  const FieldGeometry& field, const IdentificationParams& params)
     : params_(params),
       robots_(camera, patterns, params.robots),
-      balls_(camera, field, params.balls, {patterns.robot_radius, patterns.robot_height}) {}
+      balls_(camera, field, params.balls, RobotTop::of(patterns)) {}
 
 void FrameIdentifier::setParams(const IdentificationParams& params) {
   params_ = params;

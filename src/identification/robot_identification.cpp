@@ -1,6 +1,7 @@
 #include "soccer_vision/identification/robot_identification.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -18,10 +19,17 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
+constexpr std::size_t index(Team team) { return static_cast<std::size_t>(team); }
+
+Team teamOfColor(ColorClass c) { return c == ColorClass::Blue ? Team::Blue : Team::Yellow; }
+
 struct Observed {
   int region = 0;  // index into the input regions
   ColorClass color = ColorClass::None;
-  PlaneRegion plane;  // id markers (not team colours): the centre only
+  PlaneRegion plane;  // a team region on its team's marker plane (shape and axis too)
+  // An id marker's centre on each team's marker plane (index: Team): a hypothesis of team
+  // T reads at[T] (idCentre). The two are equal when the teams' heights are.
+  std::array<Eigen::Vector2d, 2> at;
   double area_px = 0;
 };
 
@@ -74,7 +82,11 @@ class Matcher {
  public:
   Matcher(const CameraModel& camera, const PatternSet& pattern, const RobotIdentificationParams& params,
           const std::vector<Region>& regions, double axis_weight)
-      : camera_(camera), pattern_(pattern), params_(params), axis_weight_(axis_weight) {
+      : camera_(camera),
+        pattern_(pattern),
+        params_(params),
+        axis_weight_(axis_weight),
+        height_{pattern.height(Team::Blue), pattern.height(Team::Yellow)} {
     const std::size_t n_slots = pattern.slots.size();
     team_pos_ = {pattern.team_marker.x, pattern.team_marker.y};
     slot_colors_.assign(n_slots, 0);
@@ -102,31 +114,35 @@ class Matcher {
     for (std::size_t r = 0; r < regions.size(); ++r) {
       const ColorClass c = regions[r].color;
       const bool team = c == ColorClass::Blue || c == ColorClass::Yellow;
-      const bool id_marker = (id_colors & colorBit(c)) != 0;
+      bool id_marker = (id_colors & colorBit(c)) != 0;
       if (!team && !id_marker) continue;
-      // Shape and axis are used for team tags only; an id marker needs just its centroid.
-      PlaneRegion plane;
+      // Shape and axis are used for team tags only, on their team's plane (the colour says
+      // which); an id marker needs just its centroid, on the plane of each team it may
+      // belong to.
+      Observed o{static_cast<int>(r), c, {}, {}, static_cast<double>(regions[r].area)};
       if (team) {
-        const auto full = projectToPlane(regions[r], camera, pattern.robot_height);
+        const auto full = projectToPlane(regions[r], camera, height_[index(teamOfColor(c))]);
         if (!full) {
           ++unprojectable_teams_;
           continue;
         }
-        plane = *full;
-      } else {
-        const auto centre = projectCentroidToPlane(regions[r], camera, pattern.robot_height);
-        if (!centre) continue;
-        plane.centre = *centre;
+        o.plane = *full;
       }
-      const int o = static_cast<int>(observed_.size());
-      observed_.push_back({static_cast<int>(r), c, plane, static_cast<double>(regions[r].area)});
+      if (id_marker && !projectIdMarker(regions[r], o)) {
+        if (!team) continue;
+        id_marker = false;  // a team region whose centroid is off the other team's plane
+      }
+      const int k = static_cast<int>(observed_.size());
+      observed_.push_back(o);
       // A colour can be both team and id colour in a user pattern; then it is tried as both.
-      if (team) teams_.push_back(o);
-      if (id_marker) id_markers_.push_back(o);
+      if (team) teams_.push_back(k);
+      if (id_marker) id_markers_.push_back(k);
     }
   }
 
   const std::vector<Observed>& observed() const { return observed_; }
+  // The marker plane of `team`'s robots.
+  double height(Team team) const { return height_[index(team)]; }
   const std::vector<int>& teams() const { return teams_; }
   int unprojectableTeams() const { return unprojectable_teams_; }
 
@@ -138,7 +154,7 @@ class Matcher {
                                      RejectionCause& furthest) const {
     std::vector<Hypothesis> out;
     const Observed& team = observed_[t];
-    const Team team_id = team.color == ColorClass::Blue ? Team::Blue : Team::Yellow;
+    const Team team_id = teamOfColor(team.color);
     AssignmentSet seen;  // slot assignments already evaluated
     auto consider = [&](Hypothesis h, bool fitted) {
       if (!seen.insert(h.slot_obs)) return;
@@ -154,7 +170,7 @@ class Matcher {
     std::vector<int> near;
     for (int c : id_markers_) {
       if (c != t && !used[c] &&
-          (observed_[c].plane.centre - team.plane.centre).norm() <= max_reach_ + params_.marker_gate) {
+          (idCentre(c, team_id) - team.plane.centre).norm() <= max_reach_ + params_.marker_gate) {
         near.push_back(c);
       }
     }
@@ -164,7 +180,7 @@ class Matcher {
       // refitted once.
       AssignmentSet seeded;
       for (int c : near) {
-        const Eigen::Vector2d d = observed_[c].plane.centre - team.plane.centre;
+        const Eigen::Vector2d d = idCentre(c, team_id) - team.plane.centre;
         const double dist = d.norm();
         if (dist > max_reach_) continue;
         const double direction = std::atan2(d.y(), d.x());
@@ -179,7 +195,7 @@ class Matcher {
           seed.y = team.plane.centre.y() - offset.y();
           Hypothesis h;
           h.team = t;
-          assignSlots(seed, near, h.slot_obs);
+          assignSlots(seed, team_id, near, h.slot_obs);
           if (h.slot_obs[s] < 0) continue;  // the seed itself did not survive the assignment
           if (!seeded.insert(h.slot_obs)) continue;
           // Refit and reassign once: the seed pose rests on two centroids only.
@@ -187,7 +203,7 @@ class Matcher {
             furthest = std::max(furthest, RejectionCause::Axis);
             continue;
           }
-          assignSlots(h.pose, near, slot_scratch_);
+          assignSlots(h.pose, team_id, near, slot_scratch_);
           // The pose was fitted to exactly these slots when the reassignment keeps them.
           const bool fitted = slot_scratch_ == h.slot_obs;
           h.slot_obs.swap(slot_scratch_);
@@ -207,9 +223,31 @@ class Matcher {
   }
 
  private:
-  // Nearest of the candidate id-colour regions within the gate of each predicted slot,
-  // one-to-one, closest pairs first.
-  void assignSlots(const Pose2d& pose, const std::vector<int>& candidates, std::vector<int>& slot_obs) const {
+  // An id marker's centre on the plane of a robot of `team`.
+  const Eigen::Vector2d& idCentre(int o, Team team) const { return observed_[o].at[index(team)]; }
+
+  Team teamOf(const Hypothesis& h) const { return teamOfColor(observed_[h.team].color); }
+
+  // Both teams' centres of an id-colour region (two centroids when the heights differ);
+  // false when it is off either plane.
+  bool projectIdMarker(const Region& region, Observed& o) const {
+    for (const Team team : {Team::Blue, Team::Yellow}) {
+      const std::size_t k = index(team);
+      if (k > 0 && height_[k] == height_[0]) {
+        o.at[k] = o.at[0];
+        continue;
+      }
+      const auto centre = projectCentroidToPlane(region, camera_, height_[k]);
+      if (!centre) return false;
+      o.at[k] = *centre;
+    }
+    return true;
+  }
+
+  // Nearest of the candidate id-colour regions within the gate of each predicted slot of a
+  // robot of `team`, one-to-one, closest pairs first.
+  void assignSlots(const Pose2d& pose, Team team, const std::vector<int>& candidates,
+                   std::vector<int>& slot_obs) const {
     pairs_.clear();
     const double c = std::cos(pose.theta), sn = std::sin(pose.theta);
     for (std::size_t s = 0; s < slot_pos_.size(); ++s) {
@@ -219,7 +257,7 @@ class Matcher {
       for (int o : candidates) {
         if (!(slot_colors_[s] & colorBit(observed_[o].color))) continue;
         // Most pairs are far apart: the root only for those near the gate (same value as norm()).
-        const double d2 = (observed_[o].plane.centre - p).squaredNorm();
+        const double d2 = (idCentre(o, team) - p).squaredNorm();
         if (d2 > gate2_) continue;
         const double d = std::sqrt(d2);
         if (d <= params_.marker_gate) pairs_.push_back({d, s, o});
@@ -241,13 +279,14 @@ class Matcher {
   // Pose from the matched markers; false when the team tag's axis contradicts it.
   bool fit(Hypothesis& h) const {
     const Observed& team = observed_[h.team];
+    const Team team_id = teamOf(h);
     fit_model_.assign(1, team_pos_);
     fit_obs_.assign(1, team.plane.centre);
     fit_w_.assign(1, team_weight_);
     for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
       if (h.slot_obs[s] < 0) continue;
       fit_model_.push_back(slot_pos_[s]);
-      fit_obs_.push_back(observed_[h.slot_obs[s]].plane.centre);
+      fit_obs_.push_back(idCentre(h.slot_obs[s], team_id));
       fit_w_.push_back(slot_weight_[s]);
     }
     h.heading_valid = fit_model_.size() > 1;
@@ -285,21 +324,22 @@ class Matcher {
       return RejectionCause::Incomplete;
     if (!fitted && !fit(h)) return RejectionCause::Axis;
     const Observed& team = observed_[h.team];
+    const Team team_id = teamOf(h);
     const double c = std::cos(h.pose.theta), sn = std::sin(h.pose.theta);
     auto place = [&](const MarkerShape& shape) {  // h.pose.apply(shape centre)
       return Eigen::Vector2d(h.pose.x + c * shape.x - sn * shape.y, h.pose.y + sn * shape.x + c * shape.y);
     };
     double cost = 0;
     int terms = 0;
-    auto position = [&](const MarkerShape& shape, const Observed& o) {
-      const double r = (o.plane.centre - place(shape)).norm();
+    auto position = [&](const MarkerShape& shape, const Eigen::Vector2d& centre) {
+      const double r = (centre - place(shape)).norm();
       cost += (r / params_.position_sigma) * (r / params_.position_sigma);
       ++terms;
       return r <= params_.marker_gate;
     };
     auto area = [&](const MarkerShape& shape, const Observed& o) {
       const double expected =
-          expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta, pattern_.robot_height);
+          expectedMarkerArea(camera_, shape, h.pose.x, h.pose.y, h.pose.theta, height(team_id));
       if (expected <= 0) return false;  // outline not projectable: no plausible area either
       const double ratio = o.area_px / expected;
       const double l = std::log(ratio) / params_.area_sigma;
@@ -307,9 +347,9 @@ class Matcher {
       ++terms;
       return ratio <= params_.area_ratio_gate && ratio >= 1.0 / params_.area_ratio_gate;
     };
-    if (h.heading_valid && !position(pattern_.team_marker, team)) return RejectionCause::Gate;
+    if (h.heading_valid && !position(pattern_.team_marker, team.plane.centre)) return RejectionCause::Gate;
     for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
-      if (h.slot_obs[s] >= 0 && !position(pattern_.slots[s], observed_[h.slot_obs[s]]))
+      if (h.slot_obs[s] >= 0 && !position(pattern_.slots[s], idCentre(h.slot_obs[s], team_id)))
         return RejectionCause::Gate;
     }
     if (teamAxisUsable(team) && h.heading_valid) {
@@ -355,7 +395,8 @@ class Matcher {
   const CameraModel& camera_;
   const PatternSet& pattern_;
   const RobotIdentificationParams& params_;
-  const double axis_weight_;  // the team-tag axis' share for these regions
+  const double axis_weight_;            // the team-tag axis' share for these regions
+  const std::array<double, 2> height_;  // the teams' marker planes (index: Team)
   Eigen::Vector2d team_pos_;
   double team_weight_ = 0;                 // team tag area: its weight in the fit
   std::vector<Eigen::Vector2d> slot_pos_;  // slot centres, robot frame
@@ -411,9 +452,8 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     if (done[t] || used[t] || options[t].empty()) continue;
     const Hypothesis& h = options[t].front();
     const auto parts = h.observedUsed();
-    const bool conflict =
-        std::any_of(parts.begin(), parts.end(), [&](int o) { return used[o] != 0; }) ||
-        (h.id >= 0 && taken.count({obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow, h.id}));
+    const bool conflict = std::any_of(parts.begin(), parts.end(), [&](int o) { return used[o] != 0; }) ||
+                          (h.id >= 0 && taken.count({teamOfColor(obs[t].color), h.id}));
     if (conflict) {
       // Regions taken since this was formed: form the hypotheses again without them.
       form(t);
@@ -422,7 +462,7 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     }
     for (int o : parts) used[o] = 1;
     done[t] = 1;
-    const Team team = obs[t].color == ColorClass::Blue ? Team::Blue : Team::Yellow;
+    const Team team = teamOfColor(obs[t].color);
     if (h.id >= 0) taken.insert({team, h.id});
     accepted.push_back(h);
   }
@@ -440,14 +480,14 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
   for (const Hypothesis& h : accepted) {
     for (const int o : h.observedUsed()) out.region_confidence[obs[o].region] = h.confidence;
     RobotDetection d;
-    d.team = obs[h.team].color == ColorClass::Blue ? Team::Blue : Team::Yellow;
+    d.team = teamOfColor(obs[h.team].color);
     d.id = h.id;
     d.x = h.pose.x;
     d.y = h.pose.y;
     d.heading_valid = h.heading_valid;
     d.theta = h.heading_valid ? wrapToPi(h.pose.theta) : 0.0;
     d.confidence = h.confidence;
-    const auto px = camera_.project({d.x, d.y, patterns_.robot_height});
+    const auto px = camera_.project({d.x, d.y, m.height(d.team)});
     const Region& team_region = regions[obs[h.team].region];
     d.pixel = px ? *px : Eigen::Vector2d(team_region.cx, team_region.cy);
     out.robots.push_back(d);

@@ -362,7 +362,9 @@ nlohmann::json CalibrationUiNodelet::overlay(int id, bool frozen) {
     robots = robots_;
     balls = balls_;
   }
-  const double marker_height = PatternSet().robot_height;  // the robots are drawn at their marker plane
+  // The robots are drawn at their marker plane. The UI is given no pattern: both teams at the
+  // default plane (a team 2 cm lower is drawn a few pixels off near the image's edge).
+  const double marker_height = PatternSet().robot_height;
   nlohmann::json robot_list = nlohmann::json::array();
   if (robots) {
     for (const RobotPose& r : robots->robots) {

@@ -25,6 +25,7 @@
 #include "soccer_vision/CameraDetections.h"
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/tracking_conversions.h"
@@ -101,7 +102,8 @@ class SslOutputNodelet : public nodelet::Nodelet {
 void SslOutputNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
-  std::string address, interface, log_path, field_name;
+  std::string address, interface, log_path, field_name, pattern;
+  double robot_height = 0.150;
   int detection_port = 10006, tracked_port = 10010;
   double geometry_period = 3.0;
   pnh.param("ssl_address", address, std::string("224.5.23.2"));
@@ -111,7 +113,8 @@ void SslOutputNodelet::onInit() {
   pnh.param("ssl_log", log_path, std::string());
   pnh.param("field", field_name, std::string("div_b"));
   pnh.param("field_frame", field_frame_, std::string("field"));
-  pnh.param("robot_height", detection_options_.robot_height, 0.150);
+  pnh.param("robot_height", robot_height, 0.150);
+  pnh.param("pattern", pattern, std::string());
   pnh.param("geometry_period", geometry_period, 3.0);
   pnh.param("source_name", tracked_options_.source_name, std::string("soccer_vision"));
   tracked_options_.uuid = ssl::randomUuid();
@@ -127,9 +130,19 @@ void SslOutputNodelet::onInit() {
     NODELET_ERROR("geometry_period %g s outside (0, 60]; using 3 s", geometry_period);
     geometry_period = 3.0;
   }
-  if (!(detection_options_.robot_height >= 0 && detection_options_.robot_height <= 0.5)) {
-    NODELET_ERROR("robot_height %g m outside [0, 0.5]; using 0.15 m", detection_options_.robot_height);
-    detection_options_.robot_height = 0.150;
+  if (!(robot_height >= 0 && robot_height <= 0.5)) {
+    NODELET_ERROR("robot_height %g m outside [0, 0.5]; using 0.15 m", robot_height);
+    robot_height = 0.150;
+  }
+  detection_options_.robot_height = {robot_height, robot_height};
+  if (!pattern.empty()) {
+    // The pattern's heights, per team (identification projected each team onto its own).
+    try {
+      const PatternSet patterns = patternSetByName(pattern);
+      detection_options_.robot_height = {patterns.height(Team::Blue), patterns.height(Team::Yellow)};
+    } catch (const std::exception& e) {
+      NODELET_ERROR("pattern: %s; sending robot_height %g m for both teams", e.what(), robot_height);
+    }
   }
   try {
     detection_sender_ = std::make_unique<ssl::UdpSender>(address, detection_port, interface);
@@ -214,7 +227,7 @@ void SslOutputNodelet::detectionsCallback(Camera& camera, const CameraDetections
     std::lock_guard<std::mutex> lock(mutex_);
     // The message carries no pixels: they come back through the camera model.
     if (const CameraModel* model = cameraModel(camera)) {
-      frame = ssl::withProjectedPixels(frame, *model, detection_options_.robot_height);
+      frame = ssl::withProjectedPixels(frame, *model, detection_options_);
     }
     new_camera = camera.camera_id != frame.camera_id;
     camera.camera_id = frame.camera_id;

@@ -4,6 +4,7 @@
 // all cameras, so a robot in the overlap is one track. Parameters and topics:
 // docs/nodelets.md, generated from cfg/Tracking.cfg and cfg/Tracking.params.yaml.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -30,6 +31,7 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/TrackingConfig.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/conversions.h"
@@ -87,6 +89,7 @@ class TrackingNodelet : public nodelet::Nodelet {
   SearchPlannerParams search_params_;
   bool show_windows_ = false;
   MarkerStyle marker_style_;
+  std::array<double, 2> robot_height_{0.150, 0.150};  // [m] the pattern's marker planes (index: Team)
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::WallTimer diag_timer_;
@@ -136,6 +139,19 @@ void TrackingNodelet::onInit() {
   } catch (const std::exception& e) {
     NODELET_ERROR("%s; no field markers, and every ball track is taken as in play", e.what());
   }
+
+  // The pattern's marker planes, per team: where the robots' windows, rviz bodies and tf
+  // frames are. Read before the reconfigure callback copies the search parameters.
+  std::string pattern;
+  pnh.param("pattern", pattern, std::string("two_tag"));
+  try {
+    const PatternSet patterns = patternSetByName(pattern);
+    robot_height_ = {patterns.height(Team::Blue), patterns.height(Team::Yellow)};
+  } catch (const std::exception& e) {
+    NODELET_ERROR("pattern: %s; robots at 0.15 m", e.what());
+  }
+  search_params_.windows.robot_height = robot_height_;
+  marker_style_.robot_height = robot_height_;
 
   reconfigure_server_ = std::make_unique<ReconfigureServer>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback([this](TrackingConfig& c, uint32_t level) { reconfigure(c, level); });
@@ -329,16 +345,17 @@ void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& hea
   if (show_windows_ && model) publishWindowMarkers(*model, *msg);
 }
 
-// The windows' outlines on the marker plane (mutex held).
+// The windows' outlines on the marker plane (mutex held). A window (and an entry band) has
+// no team: drawn on the higher of the teams' planes, over every top rather than under one.
 void TrackingNodelet::publishWindowMarkers(const CameraModel& model, const SearchWindows& windows) {
+  const double height = std::max(robot_height_[0], robot_height_[1]);
   std::vector<std::vector<Eigen::Vector3d>> outlines;
   for (const auto& roi : windows.windows) {
     const double x0 = roi.x_offset, y0 = roi.y_offset, x1 = x0 + roi.width - 1.0, y1 = y0 + roi.height - 1.0;
     std::vector<Eigen::Vector3d> outline;
     for (const Eigen::Vector2d& corner : {Eigen::Vector2d(x0, y0), Eigen::Vector2d(x1, y0),
                                           Eigen::Vector2d(x1, y1), Eigen::Vector2d(x0, y1)}) {
-      if (const auto p = model.pixelToField(corner, search_params_.windows.robot_height))
-        outline.push_back(*p);
+      if (const auto p = model.pixelToField(corner, height)) outline.push_back(*p);
     }
     if (outline.size() == 4) outlines.push_back(std::move(outline));
   }
@@ -354,8 +371,9 @@ void TrackingNodelet::publishTf(const TrackerOutput& out, const ros::Time& stamp
   for (const TrackedRobot& r : out.robots) {
     const std::string name = std::string(teamName(r.team)) + "_" +
                              (r.id >= 0 ? std::to_string(r.id) : "track" + std::to_string(r.track_id));
-    transforms.push_back(planarTransform(r.x, r.y, 0.150, r.heading_valid ? r.theta : 0.0, field_frame_,
-                                         "robot/" + name, stamp));
+    transforms.push_back(planarTransform(r.x, r.y, robot_height_[static_cast<std::size_t>(r.team)],
+                                         r.heading_valid ? r.theta : 0.0, field_frame_, "robot/" + name,
+                                         stamp));
   }
   if (const TrackedBall* b = out.primaryBall()) {
     transforms.push_back(planarTransform(b->x, b->y, b->z, 0.0, field_frame_, "ball", stamp));

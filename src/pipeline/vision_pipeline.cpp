@@ -36,12 +36,18 @@ TrackerParams withField(TrackerParams p, const FieldGeometry& field) {
   if (!p.field) p.field = field;
   return p;
 }
+
+// A robot's window is centred where its team's marker plane puts it.
+VisionPipelineParams withTeamHeights(VisionPipelineParams p, const PatternSet& patterns) {
+  p.search.windows.robot_height = {patterns.height(Team::Blue), patterns.height(Team::Yellow)};
+  return p;
+}
 }  // namespace
 
 VisionPipeline::VisionPipeline(std::vector<PipelineCamera> cameras, const PatternSet& patterns,
                                const FieldGeometry& field, const VisionPipelineParams& params)
     : cameras_(std::move(cameras)),
-      params_(params),
+      params_(withTeamHeights(params, patterns)),
       segmenter_(params.segmentation),
       tracker_(withField(params.tracker, field)) {
   validate(params_);

@@ -86,19 +86,20 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
   for (const RobotPose& r : robots.robots) {
     const bool blue = r.team == RobotPose::TEAM_BLUE;
     const int id = (blue ? 0 : 256) + r.id;
+    const double height = style.robot_height[static_cast<std::size_t>(blue ? Team::Blue : Team::Yellow)];
     const float alpha = r.visible ? 1.0f : 0.4f;
     std_msgs::Header header = robots.header;
 
     auto body = marker(header, "robots", id, visualization_msgs::Marker::CYLINDER);
-    body.pose.position = point(r.x, r.y, style.robot_height / 2);
+    body.pose.position = point(r.x, r.y, height / 2);
     body.scale.x = body.scale.y = 2 * style.robot_radius;
-    body.scale.z = style.robot_height;
+    body.scale.z = height;
     body.color = blue ? rgba(0.1f, 0.35f, 1.0f, alpha) : rgba(1.0f, 0.85f, 0.0f, alpha);
     body.lifetime = lifetime;
     out.markers.push_back(body);
 
     auto text = marker(header, "robot_ids", id, visualization_msgs::Marker::TEXT_VIEW_FACING);
-    text.pose.position = point(r.x, r.y, style.robot_height + 0.12);
+    text.pose.position = point(r.x, r.y, height + 0.12);
     text.scale.z = 0.15;
     text.color = rgba(1, 1, 1, alpha);
     text.text =
@@ -108,7 +109,7 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
 
     if (std::isfinite(r.theta)) {
       auto arrow = marker(header, "robot_headings", id, visualization_msgs::Marker::ARROW);
-      arrow.pose.position = point(r.x, r.y, style.robot_height + 0.01);
+      arrow.pose.position = point(r.x, r.y, height + 0.01);
       setYaw(arrow, r.theta);
       arrow.scale.x = 2 * style.robot_radius;  // length
       arrow.scale.y = 0.03;

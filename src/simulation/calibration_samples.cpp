@@ -125,10 +125,10 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
                                 const SampleOptions& options) {
   ColorSamples samples;
   const PolygonProjector projector(camera, options.image_margin);
-  const double z_top = patterns.robot_height;
   Polygon poly;
 
   for (const auto& r : scene.robots) {
+    const double z_top = patterns.height(r.team);
     const auto markers = patterns.markers(r.team, r.id);
     for (const auto& m : markers) {
       std::vector<Eigen::Vector3d> pts;

@@ -56,6 +56,7 @@ std::uint64_t frameSeed(std::uint64_t seed, std::int64_t frame_index) {
 // A robot as seen this frame: pose and its markers with their albedo.
 struct RobotLook {
   float x, y, cos_t, sin_t;
+  double height;  // m, its team's marker plane (PatternSet::height)
   std::vector<ColoredMarker> markers;
   std::vector<cv::Vec3f> albedo;
 };
@@ -264,7 +265,7 @@ struct FieldRenderer::Impl {
     double reach = 0;
     for (std::size_t k = 0; k < lamps.size(); ++k)
       reach = std::max(
-          reach, (lamps.shadowTip(k, r.x, r.y, patterns.robot_height) - Eigen::Vector2d(r.x, r.y)).norm());
+          reach, (lamps.shadowTip(k, r.x, r.y, patterns.height(r.team)) - Eigen::Vector2d(r.x, r.y)).norm());
     return reach + 2 * kPenumbra;
   }
 
@@ -305,11 +306,11 @@ struct FieldRenderer::Impl {
 
   std::vector<Drawable> drawables(const SceneState& scene) const {
     std::vector<Drawable> out;
-    const double h = patterns.robot_height;
     for (std::size_t i = 0; i < scene.robots.size(); ++i) {
       const RobotState& r = scene.robots[i];
       const double reach = castsShadows() ? shadowReach(r) : 0.0;
-      out.push_back({true, i, boundCircles(r.x, r.y, patterns.robot_radius + reach, {0.0, h}),
+      out.push_back({true, i,
+                     boundCircles(r.x, r.y, patterns.robot_radius + reach, {0.0, patterns.height(r.team)}),
                      std::hypot(r.x - centre.x(), r.y - centre.y())});
     }
     for (std::size_t i = 0; i < scene.balls.size(); ++i) {
@@ -329,6 +330,7 @@ struct FieldRenderer::Impl {
                 static_cast<float>(r.y),
                 static_cast<float>(std::cos(r.theta)),
                 static_cast<float>(std::sin(r.theta)),
+                patterns.height(r.team),
                 patterns.markers(r.team, r.id),
                 {}};
     for (const ColoredMarker& m : l.markers) l.albedo.push_back(classAlbedo(m.color));
@@ -354,7 +356,7 @@ struct FieldRenderer::Impl {
   RobotRay traceRobot(const RobotLook& l, cv::Vec2f g, float fp) const {
     const float cx = static_cast<float>(centre.x()), cy = static_cast<float>(centre.y());
     // All rays meet at the camera centre, so the z = h plane is z = 0 scaled to the nadir.
-    const float s = static_cast<float>((centre.z() - patterns.robot_height) / centre.z());
+    const float s = static_cast<float>((centre.z() - l.height) / centre.z());
     const float radius = static_cast<float>(patterns.robot_radius);
     const float tx = cx + (g[0] - cx) * s, ty = cy + (g[1] - cy) * s;
     // Horizontal trace of the ray from the top plane down to the carpet: it hits the
@@ -383,7 +385,7 @@ struct FieldRenderer::Impl {
     const Eigen::Vector2d base(r.x, r.y);
     std::vector<Eigen::Vector2d> tips;
     for (std::size_t k = 0; k < lamps.size(); ++k)
-      tips.push_back(lamps.shadowTip(k, r.x, r.y, patterns.robot_height));
+      tips.push_back(lamps.shadowTip(k, r.x, r.y, patterns.height(r.team)));
     const float strength = static_cast<float>(scenario.appearance.shadow);
     for (int v = area.y; v < area.br().y; ++v) {
       const auto* g = ground.ptr<cv::Vec2f>(v);
@@ -654,7 +656,7 @@ const CameraModel& FieldRenderer::camera() const { return impl_->camera; }
 
 bool FieldRenderer::robotVisible(const RobotState& robot) const {
   const Impl& m = *impl_;
-  const double h = m.patterns.robot_height;
+  const double h = m.patterns.height(robot.team);
   const double c = std::cos(robot.theta), s = std::sin(robot.theta);
   auto inside = [&](double lx, double ly) {
     const auto px = m.projectForBounds({robot.x + c * lx - s * ly, robot.y + s * lx + c * ly, h});

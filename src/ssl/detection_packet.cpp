@@ -22,9 +22,9 @@ void fillRobot(const RobotDetection& r, double height, ::SSL_DetectionRobot* out
 }  // namespace
 
 CameraFrameDetections withProjectedPixels(CameraFrameDetections frame, const CameraModel& camera,
-                                          double robot_height) {
+                                          const DetectionPacketOptions& options) {
   for (RobotDetection& r : frame.robots) {
-    if (const auto pixel = camera.project({r.x, r.y, robot_height})) r.pixel = *pixel;
+    if (const auto pixel = camera.project({r.x, r.y, options.height(r.team)})) r.pixel = *pixel;
   }
   for (BallDetection& b : frame.balls) {
     if (const auto pixel = camera.project({b.x, b.y, b.z})) b.pixel = *pixel;
@@ -51,7 +51,7 @@ CameraFrameDetections withProjectedPixels(CameraFrameDetections frame, const Cam
     out->set_pixel_y(static_cast<float>(b.pixel.y()));
   }
   for (const RobotDetection& r : frame.robots) {
-    fillRobot(r, options.robot_height,
+    fillRobot(r, options.height(r.team),
               r.team == Team::Yellow ? d->add_robots_yellow() : d->add_robots_blue());
   }
   return packet;

@@ -164,6 +164,8 @@ void annotate(cv::Mat& bgr, const sv::CameraModel& camera,
               const soccer_vision::BallPoseArrayConstPtr& balls) {
   const double scale = bgr.cols / 1280.0;
   const int thickness = std::max(1, static_cast<int>(std::lround(2 * scale)));
+  // The monitor is given no pattern: both teams' truth drawn at the default marker plane (a
+  // team 2 cm lower is drawn a few pixels off near the image's edge).
   const double robot_height = 0.15, robot_radius = 0.09;
   if (robots) {
     for (const auto& r : robots->robots) {

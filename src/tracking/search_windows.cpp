@@ -57,7 +57,8 @@ void validate(const SearchWindowParams& p) {
   if (!(p.sigma_scale >= 0)) throw std::invalid_argument("search windows: sigma_scale must be >= 0");
   if (!(p.ball_speed_margin >= 0))
     throw std::invalid_argument("search windows: ball_speed_margin must be >= 0");
-  if (!std::isfinite(p.robot_height) || !std::isfinite(p.ball_height)) {
+  if (!std::isfinite(p.robot_height[0]) || !std::isfinite(p.robot_height[1]) ||
+      !std::isfinite(p.ball_height)) {
     throw std::invalid_argument("search windows: heights must be finite");
   }
 }
@@ -69,7 +70,7 @@ std::vector<SearchWindow> searchWindows(const TrackerOutput& predicted, const Ca
   std::vector<SearchWindow> out;
   for (const auto& r : predicted.robots) {
     const double grow = params.sigma_scale * largestSigma(r.position_covariance);
-    auto w = window(camera, {r.x, r.y, params.robot_height}, grow, params);
+    auto w = window(camera, {r.x, r.y, params.robot_height[static_cast<std::size_t>(r.team)]}, grow, params);
     if (!w) continue;
     w->target = SearchWindow::Target::Robot;
     w->track_id = r.track_id;

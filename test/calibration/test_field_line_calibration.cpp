@@ -127,9 +127,9 @@ Result calibrate(const TrueCamera& t, std::uint32_t seed) {
   r.k1_error = fit.camera.intrinsics().dist[0] - t.k1;
   r.robots_mm = 0;
   for (const RobotState& robot : scene.robots) {
-    const auto px = truth.project({robot.x, robot.y, patterns.robot_height});
+    const auto px = truth.project({robot.x, robot.y, patterns.height(robot.team)});
     if (!px || !truth.inImage(*px)) continue;
-    const auto p = fit.camera.pixelToField(*px, patterns.robot_height);
+    const auto p = fit.camera.pixelToField(*px, patterns.height(robot.team));
     EXPECT_TRUE(p);
     if (p) r.robots_mm = std::max(r.robots_mm, 1000 * std::hypot(p->x() - robot.x, p->y() - robot.y));
   }

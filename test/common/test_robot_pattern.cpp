@@ -27,6 +27,8 @@ void expectSameSet(const PatternSet& a, const PatternSet& b) {
   ASSERT_EQ(a.slots.size(), b.slots.size());
   for (std::size_t i = 0; i < a.slots.size(); ++i) expectSameShape(a.slots[i], b.slots[i]);
   EXPECT_EQ(a.ids, b.ids);
+  EXPECT_DOUBLE_EQ(a.height(Team::Blue), b.height(Team::Blue));
+  EXPECT_DOUBLE_EQ(a.height(Team::Yellow), b.height(Team::Yellow));
 }
 }  // namespace
 
@@ -131,4 +133,63 @@ TEST(Patterns, NanGeometryTyposAndOrangeIdsAreRefusedNamingTheKey) {
     EXPECT_NE(e.find(message), std::string::npos) << text << " -> " << e;
   }
   EXPECT_EQ(error(team + slot + "ids: [[pink], [green]]\n"), "");
+}
+
+// The marker plane: one number for both teams, or one per team (their robots differ).
+TEST(Patterns, RobotHeightIsOneNumberOrOnePerTeam) {
+  const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
+  for (const PatternSet& p : {PatternSet::twoTag(), PatternSet::ssl(), PatternSet::teamOnly()}) {
+    EXPECT_DOUBLE_EQ(p.height(Team::Blue), 0.150) << p.name;
+    EXPECT_DOUBLE_EQ(p.height(Team::Yellow), 0.150) << p.name;
+  }
+  const PatternSet both = parsePatternSet("robot_height: 0.140\n" + team, "both.yaml");
+  EXPECT_DOUBLE_EQ(both.height(Team::Blue), 0.140);
+  EXPECT_DOUBLE_EQ(both.height(Team::Yellow), 0.140);
+  const PatternSet per_team =
+      parsePatternSet("robot_height: {blue: 0.148, yellow: 0.135}\n" + team, "t.yaml");
+  EXPECT_DOUBLE_EQ(per_team.height(Team::Blue), 0.148);
+  EXPECT_DOUBLE_EQ(per_team.height(Team::Yellow), 0.135);
+  // In code: robot_height stays the height of a team without its own.
+  PatternSet one = PatternSet::twoTag();
+  one.team_height[static_cast<std::size_t>(Team::Yellow)] = 0.130;
+  EXPECT_DOUBLE_EQ(one.height(Team::Blue), 0.150);
+  EXPECT_DOUBLE_EQ(one.height(Team::Yellow), 0.130);
+  // The fuzz corpus' per-team file is a valid pattern.
+  const PatternSet corpus =
+      loadPatternSet(std::string(SOCCER_VISION_SOURCE_DIR) + "/test/fuzz/corpus/pattern/team_heights.yaml");
+  EXPECT_DOUBLE_EQ(corpus.height(Team::Blue), 0.148);
+  EXPECT_DOUBLE_EQ(corpus.height(Team::Yellow), 0.135);
+}
+
+TEST(Patterns, BadRobotHeightsAreRefusedNamingTheTeam) {
+  const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
+  auto error = [](const std::string& text) {
+    try {
+      parsePatternSet(text, "test.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"robot_height: 0.7\n", "'robot_height' must be a finite number within +-0.5"},
+      {"robot_height: .nan\n", "'robot_height' must be a finite number"},
+      {"robot_height: tall\n", "'robot_height' is not a number"},
+      {"robot_height: [0.15, 0.13]\n", "'robot_height' must be a number or a map {blue: h, yellow: h}"},
+      {"robot_height:\n", "'robot_height' must be a number or a map"},
+      {"robot_height: {blue: 0.15}\n", "must give both teams (missing 'yellow')"},
+      {"robot_height: {yellow: 0.15}\n", "must give both teams (missing 'blue')"},
+      {"robot_height: {blue: 0.15, yellow: 0.13, green: 0.1}\n", "unknown key 'green' in 'robot_height'"},
+      {"robot_height: {blue: .nan, yellow: 0.13}\n", "'robot_height.blue' must be a finite number"},
+      {"robot_height: {blue: 0.15, yellow: 0}\n", "'robot_height.yellow' must be positive"},
+      {"robot_height: {blue: 0.15, yellow: -0.1}\n", "'robot_height.yellow' must be positive"},
+      {"robot_height: {blue: 0.15, yellow: 2}\n",
+       "'robot_height.yellow' must be a finite number within +-0.5"},
+      {"robot_height: {blue: high, yellow: 0.13}\n", "'robot_height.blue' is not a number"},
+  };
+  for (const auto& [text, message] : cases) {
+    const std::string e = error(text + team);
+    EXPECT_NE(e.find("test.yaml"), std::string::npos) << text;
+    EXPECT_NE(e.find(message), std::string::npos) << text << " -> " << e;
+  }
 }

@@ -89,3 +89,19 @@ TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {
   EXPECT_EQ(counter.total().nothing_segmented, 3);
   EXPECT_DOUBLE_EQ(counter.total().rate(), 0.85);
 }
+
+// Each team's top at its own height: a marker region near the rim of a yellow robot 0.10 m
+// high (2.6 m from the nadir, the blue team's 0.15 m) lies on its top only when the top is
+// placed at 0.10 m (at 0.15 m parallax puts the top ~3.5 cm farther out).
+TEST_F(MeasuredRateTest, EachTeamsTopAtItsOwnHeight) {
+  FrameRecord truth;
+  truth.robots = {robotRecord(Team::Yellow, 1, -2.25, 2.6)};
+  const std::vector<Eigen::Vector2d> regions = {*camera.project(Eigen::Vector3d(-2.25, 2.6 - 0.08, 0.10))};
+  RobotBody body;
+  body.top_height = {0.15, 0.10};
+  MeasuredRateCounter per_team(body);
+  per_team.add(truth, camera, {}, regions);
+  EXPECT_EQ(per_team.total().identification_rejected, 1);
+  counter.add(truth, camera, {}, regions);  // 0.15 m for both teams
+  EXPECT_EQ(counter.total().nothing_segmented, 1);
+}

@@ -1,4 +1,4 @@
-// Pattern set YAML -> the markers of every id of both teams.
+// Pattern set YAML -> the markers of every id of both teams and their heights.
 #include "fuzz_target.h"
 #include "soccer_vision/common/robot_pattern.h"
 
@@ -10,6 +10,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       p.markers(soccer_vision::Team::Blue, id);
       p.markers(soccer_vision::Team::Yellow, id);
     }
+    // A pattern loaded is one whose robots stand above the carpet: else a finding.
+    if (!(p.height(soccer_vision::Team::Blue) > 0 && p.height(soccer_vision::Team::Yellow) > 0))
+      __builtin_trap();
   } catch (const std::exception&) {
   }
   return 0;

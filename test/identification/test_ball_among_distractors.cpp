@@ -148,7 +148,7 @@ TEST(BallAmongDistractors, AnOrangeFringeOnARobotsTopIsNoBall) {
   // fringe at a marker's edge, 3 cm from its centre), and the real ball beside it (its
   // centre 0.12 m away: touching the robot's side). The speck projects to the floor as a
   // plausible ball; on the robot's top it is none. The ball beside it stays a candidate.
-  const double top = PatternSet::twoTag().robot_height;
+  const double top = PatternSet::twoTag().height(Team::Blue);
   RobotDetection robot;
   robot.x = 1.0;
   robot.y = 0.5;
@@ -168,4 +168,35 @@ TEST(BallAmongDistractors, AnOrangeFringeOnARobotsTopIsNoBall) {
   BallDetectionParams off;
   off.robot_top_fraction = 0;
   EXPECT_EQ(BallDetector(kCamera, kField, off).detect(regions, {}, nullptr, {robot}).size(), 2u);
+}
+
+TEST(BallAmongDistractors, TheTopCheckUsesEachRobotsTeamHeight) {
+  // A yellow robot 2.6 m from the camera's nadir whose top is 0.10 m high (the blue team's
+  // 0.15 m); an orange speck on its top 6 cm from its centre, on the side towards the
+  // nadir. At 0.15 m its centre's pixel would lie ~3.5 cm farther out (parallax), the speck
+  // beyond 0.8 of the top's radius from it: taken for a ball.
+  PatternSet patterns = PatternSet::twoTag();
+  patterns.team_height[static_cast<std::size_t>(Team::Yellow)] = 0.10;
+  RobotDetection robot;
+  robot.team = Team::Yellow;
+  robot.x = -2.25;
+  robot.y = 2.6;
+  const auto speck_px = kCamera.project(Eigen::Vector3d(robot.x, robot.y - 0.06, 0.10));
+  const auto speck_floor = kCamera.pixelToField(*speck_px, 0.0215);
+  const std::vector<Region> regions{ballRegion(kCamera, {speck_floor->x(), speck_floor->y(), 0.0215})};
+  RejectionCounts rejected;
+  EXPECT_TRUE(BallDetector(kCamera, kField, {}, RobotTop::of(patterns))
+                  .detect(regions, {}, &rejected, {robot})
+                  .empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnRobot], 1);
+  // One height for both teams (the blue one): the speck is taken for a ball.
+  EXPECT_EQ(BallDetector(kCamera, kField, {}, RobotTop::of(PatternSet::twoTag()))
+                .detect(regions, {}, nullptr, {robot})
+                .size(),
+            1u);
+  // The blue robot in the same place is 0.15 m high: the same speck is beside its top.
+  robot.team = Team::Blue;
+  EXPECT_EQ(
+      BallDetector(kCamera, kField, {}, RobotTop::of(patterns)).detect(regions, {}, nullptr, {robot}).size(),
+      1u);
 }

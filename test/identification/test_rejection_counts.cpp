@@ -22,7 +22,7 @@ const CameraModel kCamera = CameraModel::defaultCamera(kField, 0);
 std::vector<Region> robotRegions(const PatternSet& p, Team team, int id, double x, double y, double theta) {
   std::vector<Region> out;
   for (const auto& m : p.markers(team, id)) {
-    out.push_back(markerRegion(kCamera, m.shape, m.color, x, y, theta, p.robot_height));
+    out.push_back(markerRegion(kCamera, m.shape, m.color, x, y, theta, p.height(team)));
   }
   return out;
 }

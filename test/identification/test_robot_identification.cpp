@@ -47,7 +47,7 @@ std::vector<Region> regionsOf(const PatternSet& p, const std::vector<RobotState>
     for (std::size_t m = 0; m < markers.size(); ++m) {
       if (skip && skip(i, m)) continue;
       out.push_back(markerRegion(kCamera, markers[m].shape, markers[m].color, robots[i].x, robots[i].y,
-                                 robots[i].theta, p.robot_height));
+                                 robots[i].theta, p.height(robots[i].team)));
     }
   }
   return out;
@@ -98,7 +98,65 @@ std::vector<RobotState> scattered(const PatternSet& p, int per_team, std::uint32
   return out;
 }
 
+// Per team: the worst and the RMS position error of its robots in `found` (each must be there).
+struct TeamErrors {
+  double worst = 0, rms = 0;
+};
+TeamErrors teamErrors(const std::vector<RobotDetection>& found, const std::vector<RobotState>& truth,
+                      Team team) {
+  TeamErrors e;
+  int n = 0;
+  for (const auto& t : truth) {
+    if (t.team != team) continue;
+    const RobotDetection* d = find(found, t.team, t.id);
+    EXPECT_TRUE(d) << teamName(t.team) << " " << t.id << " not found";
+    if (!d) continue;
+    const double err = std::hypot(d->x - t.x, d->y - t.y);
+    e.worst = std::max(e.worst, err);
+    e.rms += err * err;
+    ++n;
+  }
+  e.rms = n ? std::sqrt(e.rms / n) : 0;
+  return e;
+}
+
 }  // namespace
+
+// The teams' robots differ in height (blue 0.15 m, yellow 0.13 m): each team's markers are
+// on its own plane. With the pattern's per-team heights every robot is where it is; with
+// one height for both (0.15 m) the yellow ones are shifted outwards by parallax, the more
+// the farther from the camera's nadir.
+TEST(RobotIdentification, EachTeamOnItsOwnMarkerPlane) {
+  for (PatternSet p : {PatternSet::twoTag(), PatternSet::ssl()}) {
+    p.team_height = {0.15, 0.13};
+    const auto truth = scattered(p, p.maxRobotsPerTeam(), 11);
+    const auto regions = regionsOf(p, truth);
+    const auto found = RobotIdentifier(kCamera, p).identify(regions).robots;
+    const Errors e = expectExactly(found, truth, p.name + ", per-team heights");
+    for (const auto& d : found) {
+      EXPECT_LT((d.pixel - *kCamera.project({d.x, d.y, p.height(d.team)})).norm(), 1e-9);
+    }
+    PatternSet single = p;
+    single.team_height = {};
+    single.robot_height = 0.15;
+    const auto found_single = RobotIdentifier(kCamera, single).identify(regions).robots;
+    const TeamErrors blue = teamErrors(found_single, truth, Team::Blue);
+    const TeamErrors yellow = teamErrors(found_single, truth, Team::Yellow);
+    const TeamErrors yellow_own = teamErrors(found, truth, Team::Yellow);
+    std::printf(
+        "[ %s, blue 0.15 m, yellow 0.13 m, %zu robots ] per-team heights: worst %.3f mm (yellow RMS %.3f "
+        "mm); "
+        "one height 0.15 m: yellow worst %.2f mm, RMS %.2f mm, blue worst %.3f mm\n",
+        p.name.c_str(), truth.size(), 1000 * e.position, 1000 * yellow_own.rms, 1000 * yellow.worst,
+        1000 * yellow.rms, 1000 * blue.worst);
+    EXPECT_LT(e.position, 0.002);
+    EXPECT_LT(e.heading_deg, 0.2);
+    EXPECT_LT(blue.worst, 0.002);
+    // Parallax of 2 cm at ~1.5-3.5 m from the nadir of a camera 4 m high: 8-19 mm.
+    EXPECT_GT(yellow.worst, 0.008);
+    EXPECT_GT(yellow.rms, 4 * std::max(e.position, 0.001));
+  }
+}
 
 TEST(RobotIdentification, TwoTagRobotsAtKnownPoses) {
   const PatternSet p = PatternSet::twoTag();
@@ -112,7 +170,7 @@ TEST(RobotIdentification, TwoTagRobotsAtKnownPoses) {
   EXPECT_LT(e.heading_deg, 0.2);
   for (const auto& d : found) {
     // The centre pixel is where the camera sees the robot centre at marker height.
-    EXPECT_LT((d.pixel - *kCamera.project({d.x, d.y, p.robot_height})).norm(), 1e-9);
+    EXPECT_LT((d.pixel - *kCamera.project({d.x, d.y, p.height(d.team)})).norm(), 1e-9);
   }
 }
 
@@ -291,13 +349,13 @@ TEST(RobotIdentification, StrayBlobsAreNotRobots) {
   const ColorClass colors[] = {ColorClass::Blue,    ColorClass::Yellow, ColorClass::Pink, ColorClass::Purple,
                                ColorClass::SkyBlue, ColorClass::Green,  ColorClass::Red,  ColorClass::Orange};
   for (int k = 0; k < 60; ++k) {
-    regions.push_back(discBlob(kCamera, colors[k % 8], ux(rng), uy(rng), ur(rng), p.robot_height));
+    regions.push_back(discBlob(kCamera, colors[k % 8], ux(rng), uy(rng), ur(rng), p.height(Team::Blue)));
   }
   // Near robot 0: a pink disc 65 mm from its team tag at 90° to its heading.
   const RobotState& r0 = truth[0];
   const Eigen::Vector2d team0(r0.x - 0.020 * std::cos(r0.theta), r0.y - 0.020 * std::sin(r0.theta));
   regions.push_back(discBlob(kCamera, ColorClass::Pink, team0.x() - 0.065 * std::sin(r0.theta),
-                             team0.y() + 0.065 * std::cos(r0.theta), 0.020, p.robot_height));
+                             team0.y() + 0.065 * std::cos(r0.theta), 0.020, p.height(Team::Blue)));
   const RobotIdentifier id(kCamera, p);
   const Errors e = expectExactly(id.identify(regions).robots, truth, "stray blobs");
   EXPECT_LT(e.position, 0.0005);
@@ -307,7 +365,7 @@ TEST(RobotIdentification, StrayBlobsAreNotRobots) {
   auto without = regionsOf(p, truth, [](std::size_t r, std::size_t m) { return r == 1 && m == 1; });
   const RobotState& r1 = truth[1];
   without.push_back(discBlob(kCamera, ColorClass::Red, r1.x + 0.045 * std::cos(r1.theta),
-                             r1.y + 0.045 * std::sin(r1.theta), 0.040, p.robot_height));
+                             r1.y + 0.045 * std::sin(r1.theta), 0.040, p.height(Team::Blue)));
   const auto found = id.identify(without).robots;
   EXPECT_EQ(found.size(), truth.size() - 1);
   for (const auto& d : found) EXPECT_GT(std::hypot(d.x - r1.x, d.y - r1.y), 0.1);

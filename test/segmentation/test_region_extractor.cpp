@@ -609,7 +609,7 @@ TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProje
         for (const ColoredMarker& m : rendered.patterns.markers(robot.team, robot.id)) {
           targets.push_back({m.color,
                              {robot.x + c * m.shape.x - s * m.shape.y,
-                              robot.y + s * m.shape.x + c * m.shape.y, rendered.patterns.robot_height},
+                              robot.y + s * m.shape.x + c * m.shape.y, rendered.patterns.height(robot.team)},
                              std::string(teamName(robot.team)) + " " + std::to_string(robot.id)});
         }
       }

@@ -163,7 +163,7 @@ TEST(Appearance, RobotsCastSoftShadowsAwayFromTheLamp) {
   const LampSet lamps(s.appearance, kField, s.seed);
   const RobotState& r = scene.robots.front();
   const Eigen::Vector2d base(r.x, r.y);
-  const Eigen::Vector2d tip = lamps.shadowTip(0, r.x, r.y, kPatterns.robot_height);
+  const Eigen::Vector2d tip = lamps.shadowTip(0, r.x, r.y, kPatterns.height(r.team));
   const double length = (tip - base).norm();
   ASSERT_GT(length, 0.03);  // the lamp is not overhead: the shadow reaches beyond the body
   const Eigen::Vector2d away = (tip - base) / length;

@@ -81,11 +81,12 @@ TEST(SslDetectionPacket, BallsInMillimetresWithTheirArea) {
   EXPECT_NEAR(d.balls(0).pixel_y(), 200.5, 1e-4);
 }
 
-TEST(SslDetectionPacket, RobotHeightFollowsTheMarkerPlane) {
+TEST(SslDetectionPacket, RobotHeightFollowsEachTeamsMarkerPlane) {
   ssl::DetectionPacketOptions options;
-  options.robot_height = 0.140;
+  options.robot_height = {0.148, 0.135};  // blue, yellow
   const SSL_DetectionFrame d = ssl::detectionPacket(sampleFrame(), 0, 0.0, options).detection();
-  EXPECT_NEAR(d.robots_yellow(0).height(), 140.0, 1e-3);
+  EXPECT_NEAR(d.robots_yellow(0).height(), 135.0, 1e-3);
+  EXPECT_NEAR(d.robots_blue(0).height(), 148.0, 1e-3);
 }
 
 TEST(SslDetectionPacket, PixelsRecomputedThroughTheCameraAtMarkerAndBallHeight) {
@@ -95,9 +96,13 @@ TEST(SslDetectionPacket, PixelsRecomputedThroughTheCameraAtMarkerAndBallHeight) 
   f.robots[0].x = -2.0;  // inside camera 0's half
   f.robots[0].y = 0.5;
   f.balls[0].x = -1.5;
-  const CameraFrameDetections projected = ssl::withProjectedPixels(f, camera, 0.150);
+  ssl::DetectionPacketOptions options;
+  options.robot_height = {0.150, 0.100};  // f.robots[0] is yellow: its pixel at 0.10 m
+  ASSERT_EQ(f.robots[0].team, Team::Yellow);
+  const CameraFrameDetections projected = ssl::withProjectedPixels(f, camera, options);
   const Eigen::Vector2d robot_pixel = projected.robots[0].pixel;
-  const auto back = camera.pixelToField(robot_pixel, 0.150);
+  EXPECT_GT((robot_pixel - *camera.project({-2.0, 0.5, 0.150})).norm(), 0.5);
+  const auto back = camera.pixelToField(robot_pixel, 0.100);
   ASSERT_TRUE(back.has_value());
   EXPECT_NEAR(back->x(), -2.0, 1e-6);
   EXPECT_NEAR(back->y(), 0.5, 1e-6);

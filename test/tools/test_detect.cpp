@@ -105,7 +105,7 @@ class Detect : public ::testing::Test {
 
   // The robot's centre at marker height and the ball's centre, projected.
   static Eigen::Vector2d pixelOf(const RobotState& r) {
-    return *camera().project({r.x, r.y, patterns_.robot_height});
+    return *camera().project({r.x, r.y, patterns_.height(r.team)});
   }
   static Eigen::Vector2d pixelOf(const BallState& b) { return *camera().project({b.x, b.y, b.z}); }
 

@@ -62,7 +62,7 @@ TEST(SearchPlanner, PlansTheNextFramesWindowsAtTheAveragedInterval) {
   const auto bands = entryBands(cv::Size(camera.width(), camera.height()), params.entry_band_px);
   ASSERT_EQ(plan.rects.size(), 1 + bands.size());
   EXPECT_EQ(plan.rects.front(), plan.windows.front().rect);
-  const auto next = camera.project({-3.0 + vx * 12 * dt, 0.5, params.windows.robot_height});
+  const auto next = camera.project({-3.0 + vx * 12 * dt, 0.5, params.windows.robot_height[0]});
   ASSERT_TRUE(next);
   EXPECT_TRUE(inside(plan.rects.front(), *next));
 }

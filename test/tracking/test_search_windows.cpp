@@ -220,3 +220,28 @@ TEST(EntryBands, CoverTheBorderOnce) {
   EXPECT_TRUE(entryBands(image, 0).empty());
   EXPECT_EQ(entryBands(cv::Size(10, 6), 48).size(), 2u);  // bands cut to half the image
 }
+
+// A robot's window is centred where its team's marker plane puts it: a yellow robot 0.10 m
+// high 2.6 m from the nadir is ~4 cm (7 px) from where the blue team's 0.15 m plane would
+// put it.
+TEST(SearchWindows, CentredAtEachTeamsMarkerPlane) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  TrackerOutput predicted;
+  for (const Team team : {Team::Blue, Team::Yellow}) {
+    TrackedRobot r;
+    r.team = team;
+    r.x = -2.25;
+    r.y = 2.6;
+    predicted.robots.push_back(r);
+  }
+  SearchWindowParams params;
+  params.robot_height = {0.15, 0.10};
+  const auto windows = searchWindows(predicted, camera, 1.0 / 60, params);
+  ASSERT_EQ(windows.size(), 2u);
+  for (const SearchWindow& w : windows) {
+    const double h = w.team == Team::Blue ? 0.15 : 0.10;
+    EXPECT_LT((w.centre - *camera.project({-2.25, 2.6, h})).norm(), 1e-9) << teamName(w.team);
+  }
+  EXPECT_GT((windows[0].centre - windows[1].centre).norm(), 5.0);
+}

@@ -2,6 +2,8 @@
 // robot's top, per team and per id. Robot frame: x forward (heading), y left, metres.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,15 +26,24 @@ struct ColoredMarker {
 
 struct PatternSet {
   std::string name;
-  double robot_radius = 0.090;     // m
-  double robot_height = 0.150;     // m, marker plane
-  MarkerShape team_marker;         // drawn in the team colour
-  std::vector<MarkerShape> slots;  // id markers (may be empty: team-marker-only mode)
+  double robot_radius = 0.090;  // m
+  // m, the marker plane of both teams unless `team_height` overrides it for a team. Teams'
+  // robots differ in height; a wrong plane shifts positions by parallax (a 2 cm error at
+  // 3 m from the principal axis, camera 3 m high: 2 cm). Read it through height(team).
+  double robot_height = 0.150;
+  std::array<std::optional<double>, 2> team_height;  // m, per Team (index: Team value)
+  MarkerShape team_marker;                           // drawn in the team colour
+  std::vector<MarkerShape> slots;                    // id markers (may be empty: team-marker-only mode)
   // ids[id][slot] = colour of that slot for robot `id`.
   std::vector<std::vector<ColorClass>> ids;
 
   // Team-marker-only sets have no ids; they allow as many robots as the SSL pattern.
   int maxRobotsPerTeam() const { return ids.empty() ? 16 : static_cast<int>(ids.size()); }
+  // The marker plane of `team`'s robots, m.
+  double height(Team team) const {
+    const auto& own = team_height[static_cast<std::size_t>(team)];
+    return own ? *own : robot_height;
+  }
   // Every marker of robot (team, id), team marker first.
   std::vector<ColoredMarker> markers(Team team, int id) const;
 

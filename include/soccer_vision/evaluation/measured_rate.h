@@ -8,6 +8,8 @@
 //   nothing segmented:        not even a marker-coloured region there.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -41,8 +43,8 @@ struct MissedRobot {
 };
 
 struct RobotBody {
-  double top_height = 0.15;  // m: the marker plane
-  double radius = 0.09;      // m
+  std::array<double, 2> top_height{0.15, 0.15};  // m: the marker plane per team (index: Team)
+  double radius = 0.09;                          // m
 };
 
 class MeasuredRateCounter {

@@ -7,17 +7,20 @@
 // its narrow width (from the second moments) near the projected diameter (a cable or a
 // thin stripe is not a ball; a half-hidden ball still is), elongated at most as a blurred
 // streak is, and not on a robot: its centre not inside the image of an identified robot's
-// top (a ball on the floor cannot be seen through one; Bayer fringes and markers' rims on a
-// top can be orange). Several candidates may remain; each gets a confidence from its area ratio,
-// weighted down outside the playing area (a ball there is out of play; orange shoes and
-// clothes stand there), best first.
+// top at its team's height (a ball on the floor cannot be seen through one; Bayer fringes
+// and markers' rims on a top can be orange). Several candidates may remain; each gets a
+// confidence from its area ratio, weighted down outside the playing area (a ball there is
+// out of play; orange shoes and clothes stand there), best first.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <vector>
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/detections.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/segmentation/region_extractor.h"
 
 namespace soccer_vision {
@@ -46,8 +49,12 @@ struct BallDetectionParams {
 
 // The robots' top as the pattern gives it: what an orange cluster must not lie on.
 struct RobotTop {
-  double radius = 0.090;  // m
-  double height = 0.150;  // m
+  double radius = 0.090;                       // m
+  std::array<double, 2> height{0.150, 0.150};  // m, per team (index: Team)
+
+  static RobotTop of(const PatternSet& patterns) {
+    return {patterns.robot_radius, {patterns.height(Team::Blue), patterns.height(Team::Yellow)}};
+  }
 };
 
 class BallDetector {

@@ -1,5 +1,7 @@
 // Robots from regions (paper §III-D, generalised): every region is projected onto the
-// marker plane (pattern robot_height) through the camera model; for each team-colour
+// marker plane through the camera model (PatternSet::height: a team-colour region onto its
+// team's, an id-colour region onto each team's, read by the hypotheses of that team;
+// the expected areas and the robots' pixels at their team's too); for each team-colour
 // region, hypotheses are formed from id-colour regions at distances and angles the
 // pattern allows (seed: one id marker taken as one slot fixes the heading; then every
 // slot is predicted and the nearest unused region within the gate taken), the robot pose

@@ -3,6 +3,8 @@
 // width), so a position only changes unit: m -> mm; headings stay in rad.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "soccer_vision/common/camera_model.h"
@@ -12,7 +14,10 @@
 namespace soccer_vision::ssl {
 
 struct DetectionPacketOptions {
-  double robot_height = 0.150;  // [m] the marker plane the robots were projected onto
+  // [m] the marker plane each team's robots were projected onto (index: Team; the
+  // pattern's PatternSet::height), sent as their `height`.
+  std::array<double, 2> robot_height{0.150, 0.150};
+  double height(Team team) const { return robot_height[static_cast<std::size_t>(team)]; }
 };
 
 // frame_number counts this camera's frames; t_sent is the Unix time [s] of sending.
@@ -22,11 +27,11 @@ struct DetectionPacketOptions {
 ::SSL_WrapperPacket detectionPacket(const CameraFrameDetections& frame, std::uint32_t frame_number,
                                     double t_sent, const DetectionPacketOptions& options = {});
 
-// The detections with their raw pixels recomputed through the camera: robots at the marker
-// plane (robot_height), balls at their centre height, where identification found them. For
-// detections that arrive without pixels (the CameraDetections message carries none). A point
-// behind the camera keeps its pixel.
+// The detections with their raw pixels recomputed through the camera: robots at their team's
+// marker plane (options.height), balls at their centre height, where identification found
+// them. For detections that arrive without pixels (the CameraDetections message carries none).
+// A point behind the camera keeps its pixel.
 CameraFrameDetections withProjectedPixels(CameraFrameDetections frame, const CameraModel& camera,
-                                          double robot_height);
+                                          const DetectionPacketOptions& options);
 
 }  // namespace soccer_vision::ssl

@@ -1,7 +1,7 @@
 // Search windows (paper §III-C): where the next frame of one camera is searched, from the
 // tracker's prediction for that frame. A window is a square of side R pixels centred on
-// the projection of the predicted position (robots at marker height, 0.150 m; the ball at
-// its centre, 0.0215 m), grown on each side by
+// the projection of the predicted position (robots at their team's marker height, 0.150 m
+// unless the pattern says otherwise; the ball at its centre, 0.0215 m), grown on each side by
 //  - sigma_scale × the largest std-dev of the predicted position (the window keeps up with
 //    the prediction's uncertainty: long gaps, new tracks with unknown velocity), and
 //  - for the ball, ball_speed_margin × the distance it travels in one frame interval (a
@@ -10,6 +10,8 @@
 // at max_side_px, clipped to the image, and dropped when nothing of it is in the image.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,8 +24,9 @@
 namespace soccer_vision {
 
 struct SearchWindowParams {
-  int side_px = 200;               // R [px], side of the window before enlargement
-  double robot_height = 0.150;     // [m] plane of the robot markers
+  int side_px = 200;  // R [px], side of the window before enlargement
+  // [m] plane of the robot markers per team (index: Team; PatternSet::height).
+  std::array<double, 2> robot_height{0.150, 0.150};
   double ball_height = 0.0215;     // [m] plane of the ball centre
   double sigma_scale = 3.0;        // grow by this many std-devs of the predicted position (0: off)
   double ball_speed_margin = 0.5;  // grow ball windows by this fraction of one frame's travel (0: off)

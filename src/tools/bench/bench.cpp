@@ -116,7 +116,7 @@ std::vector<cv::Rect> windowsFor(const sv::SceneState& scene, const sv::FieldRen
       out.emplace_back(static_cast<int>(px->x()) - side / 2, static_cast<int>(px->y()) - side / 2, side,
                        side);
   };
-  for (const auto& r : scene.robots) add({r.x, r.y, patterns.robot_height});
+  for (const auto& r : scene.robots) add({r.x, r.y, patterns.height(r.team)});
   for (const auto& b : scene.balls) add({b.x, b.y, b.z});
   return out;
 }

@@ -326,7 +326,10 @@ struct Setup {
 RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLinesWriter* results) {
   sv::VisionPipeline pipeline(setup.cameras, setup.patterns, setup.field, params);
   RunStats s;
-  s.measured = sv::MeasuredRateCounter({setup.patterns.robot_height, setup.patterns.robot_radius});
+  sv::RobotBody body;
+  body.top_height = {setup.patterns.height(sv::Team::Blue), setup.patterns.height(sv::Team::Yellow)};
+  body.radius = setup.patterns.robot_radius;
+  s.measured = sv::MeasuredRateCounter(body);
   std::vector<int> ids;
   for (const auto& c : setup.cameras) ids.push_back(c.id);
   setup.problems = {};
