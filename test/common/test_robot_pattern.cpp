@@ -30,6 +30,17 @@ void expectSameSet(const PatternSet& a, const PatternSet& b) {
   EXPECT_DOUBLE_EQ(a.height(Team::Blue), b.height(Team::Blue));
   EXPECT_DOUBLE_EQ(a.height(Team::Yellow), b.height(Team::Yellow));
 }
+
+// The message parsePatternSet throws for `text`, or "" when it parses.
+std::string parseError(const std::string& text) {
+  try {
+    parsePatternSet(text, "test.yaml");
+  } catch (const std::runtime_error& e) {
+    return std::string(e.what());
+  }
+  return std::string();
+}
+
 }  // namespace
 
 TEST(Patterns, TwoTagMatchesDesign) {
@@ -76,29 +87,22 @@ TEST(Patterns, FilesEqualBuiltIns) {
 
 TEST(Patterns, BadFilesAreRejectedWithAClearMessage) {
   const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
-  auto error = [](const std::string& text) {
-    try {
-      parsePatternSet(text, "test.yaml");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
-  EXPECT_NE(error("[1, 2").find("invalid YAML"), std::string::npos);
-  EXPECT_NE(error("name: x\n").find("team_marker"), std::string::npos);
-  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[blue_ish]]\n")
+  EXPECT_NE(parseError("[1, 2").find("invalid YAML"), std::string::npos);
+  EXPECT_NE(parseError("name: x\n").find("team_marker"), std::string::npos);
+  EXPECT_NE(parseError(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[blue_ish]]\n")
                 .find("not a marker colour"),
             std::string::npos);
-  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink, red]]\n")
+  EXPECT_NE(parseError(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink, red]]\n")
                 .find("one colour per slot"),
             std::string::npos);
-  EXPECT_NE(error(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink], [pink]]\n")
+  EXPECT_NE(parseError(team + "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\nids: [[pink], [pink]]\n")
                 .find("same colours"),
             std::string::npos);
-  EXPECT_NE(
-      error(team + "slots: [{shape: disc, x: 0.08, y: 0, radius: 0.02}]\nids: [[pink]]\n").find("exceeds"),
-      std::string::npos);
-  EXPECT_NE(error("team_marker: {shape: star, x: 0, y: 0}\n").find("'disc' or 'rect'"), std::string::npos);
+  EXPECT_NE(parseError(team + "slots: [{shape: disc, x: 0.08, y: 0, radius: 0.02}]\nids: [[pink]]\n")
+                .find("exceeds"),
+            std::string::npos);
+  EXPECT_NE(parseError("team_marker: {shape: star, x: 0, y: 0}\n").find("'disc' or 'rect'"),
+            std::string::npos);
   EXPECT_THROW(loadPatternSet("/nonexistent/pattern.yaml"), std::runtime_error);
 }
 
@@ -107,14 +111,6 @@ TEST(Patterns, BadFilesAreRejectedWithAClearMessage) {
 TEST(Patterns, NanGeometryTyposAndOrangeIdsAreRefusedNamingTheKey) {
   const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
   const std::string slot = "slots: [{shape: disc, x: 0.05, y: 0, radius: 0.02}]\n";
-  auto error = [](const std::string& text) {
-    try {
-      parsePatternSet(text, "test.yaml");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"team_marker: {shape: disc, x: .nan, y: 0, radius: 0.025}\n", "'x' must be a finite number"},
       {"team_marker: {shape: disc, x: 0, y: 0, radius: .inf}\n", "'radius' must be a finite number"},
@@ -128,11 +124,11 @@ TEST(Patterns, NanGeometryTyposAndOrangeIdsAreRefusedNamingTheKey) {
       {team + slot + "ids: [[pink], [blue]]\n", "id 1: 'blue' is not an id colour"},
   };
   for (const auto& [text, message] : cases) {
-    const std::string e = error(text);
+    const std::string e = parseError(text);
     EXPECT_NE(e.find("test.yaml"), std::string::npos) << text;
     EXPECT_NE(e.find(message), std::string::npos) << text << " -> " << e;
   }
-  EXPECT_EQ(error(team + slot + "ids: [[pink], [green]]\n"), "");
+  EXPECT_EQ(parseError(team + slot + "ids: [[pink], [green]]\n"), "");
 }
 
 // The marker plane: one number for both teams, or one per team (their robots differ).
@@ -163,14 +159,6 @@ TEST(Patterns, RobotHeightIsOneNumberOrOnePerTeam) {
 
 TEST(Patterns, BadRobotHeightsAreRefusedNamingTheTeam) {
   const std::string team = "team_marker: {shape: disc, x: 0, y: 0, radius: 0.025}\n";
-  auto error = [](const std::string& text) {
-    try {
-      parsePatternSet(text, "test.yaml");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"robot_height: 0.7\n", "'robot_height' must be a finite number within +-0.5"},
       {"robot_height: .nan\n", "'robot_height' must be a finite number"},
@@ -188,7 +176,7 @@ TEST(Patterns, BadRobotHeightsAreRefusedNamingTheTeam) {
       {"robot_height: {blue: high, yellow: 0.13}\n", "'robot_height.blue' is not a number"},
   };
   for (const auto& [text, message] : cases) {
-    const std::string e = error(text + team);
+    const std::string e = parseError(text + team);
     EXPECT_NE(e.find("test.yaml"), std::string::npos) << text;
     EXPECT_NE(e.find(message), std::string::npos) << text << " -> " << e;
   }

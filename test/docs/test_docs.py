@@ -306,11 +306,12 @@ class Links(unittest.TestCase):
 # ------------------------------------------------------------------ running
 
 class JUnitResult(unittest.TextTestResult):
-    """Also keeps every case's outcome for a JUnit XML file."""
+    """Also keeps every case's outcome (skips included) for a JUnit XML file."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self.cases = []
+        self.started = time.time()
 
     def startTest(self, test):
         self.started = time.time()
@@ -327,9 +328,13 @@ class JUnitResult(unittest.TextTestResult):
         super().addFailure(test, err)
         self._record(test, "failure", self._exc_info_to_string(err, test))
 
-    def addError(self, test, err):
+    def addError(self, test, err):  # also a setUpClass that failed
         super().addError(test, err)
         self._record(test, "error", self._exc_info_to_string(err, test))
+
+    def addSkip(self, test, reason):
+        super().addSkip(test, reason)
+        self._record(test, "skipped", reason)
 
     def addSubTest(self, test, subtest, err):
         super().addSubTest(test, subtest, err)
@@ -339,13 +344,20 @@ class JUnitResult(unittest.TextTestResult):
 
 
 def write_junit(result, path, suite_name):
-    suite = ET.Element("testsuite", name=suite_name, tests=str(len(result.cases)),
-                       failures=str(sum(k == "failure" for _, _, k, _ in result.cases)),
-                       errors=str(sum(k == "error" for _, _, k, _ in result.cases)))
+    count = lambda kind: str(sum(k == kind for _, _, k, _ in result.cases))  # noqa: E731
+    suite = ET.Element("testsuite", name=suite_name, tests=str(len(result.cases)), failures=count("failure"),
+                       errors=count("error"), skipped=count("skipped"))
     for test, seconds, kind, message in result.cases:
-        case = ET.SubElement(suite, "testcase", classname=type(test).__name__, name=test.id().split(".", 2)[-1],
-                             time="%.3f" % seconds)
-        if kind:
+        if isinstance(test, unittest.TestCase):
+            classname, name = type(test).__name__, test.id().split(".", 2)[-1]
+        else:  # a setUpClass that failed: unittest reports it as "setUpClass (module.Class)"
+            classname, name = "setUpClass", str(test)
+        case = ET.SubElement(suite, "testcase", classname=classname, name=name, time="%.3f" % seconds)
+        if kind == "skipped":  # as gtest marks a skipped case
+            case.set("status", "run")
+            case.set("result", "skipped")
+            ET.SubElement(case, "skipped", message=message)
+        elif kind:
             ET.SubElement(case, kind, message=message.strip().splitlines()[-1]).text = message
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
 

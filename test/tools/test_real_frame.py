@@ -35,7 +35,6 @@ import sys
 import tempfile
 import time
 import unittest
-import xml.etree.ElementTree as ET
 
 try:
     import yaml
@@ -339,66 +338,7 @@ class RealFrame2008(unittest.TestCase):
 
 # ------------------------------------------------------------------ running
 
-class JUnitResult(unittest.TextTestResult):
-    """Keeps every case's outcome (skips included) for a JUnit XML file."""
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.cases = []
-        self.started = time.time()
-
-    def startTest(self, test):
-        self.started = time.time()
-        super().startTest(test)
-
-    def _record(self, test, kind=None, message=""):
-        self.cases.append((test, time.time() - self.started, kind, message))
-
-    def addSuccess(self, test):
-        super().addSuccess(test)
-        self._record(test)
-
-    def addFailure(self, test, err):
-        super().addFailure(test, err)
-        self._record(test, "failure", self._exc_info_to_string(err, test))
-
-    def addError(self, test, err):  # also a setUpClass that failed
-        super().addError(test, err)
-        self._record(test, "error", self._exc_info_to_string(err, test))
-
-    def addSkip(self, test, reason):
-        super().addSkip(test, reason)
-        self._record(test, "skipped", reason)
-
-
-def write_junit(result, path, suite_name):
-    count = lambda kind: str(sum(k == kind for _, _, k, _ in result.cases))  # noqa: E731
-    suite = ET.Element("testsuite", name=suite_name, tests=str(len(result.cases)), failures=count("failure"),
-                       errors=count("error"), skipped=count("skipped"))
-    for test, seconds, kind, message in result.cases:
-        if isinstance(test, unittest.TestCase):
-            classname, name = type(test).__name__, test.id().split(".")[-1]
-        else:  # a setUpClass that failed
-            classname, name = RealFrame2008.__name__, str(test)
-        case = ET.SubElement(suite, "testcase", classname=classname, name=name, time="%.3f" % seconds)
-        if kind == "skipped":
-            case.set("status", "run")
-            case.set("result", "skipped")
-            ET.SubElement(case, "skipped", message=message)
-        elif kind:
-            ET.SubElement(case, kind, message=message.strip().splitlines()[-1]).text = message
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
-def main(argv):
-    xml = next((a.split("=", 1)[1].removeprefix("xml:") for a in argv if a.startswith("--gtest_output=")), None)
-    tests = unittest.defaultTestLoader.loadTestsFromTestCase(RealFrame2008)
-    result = unittest.TextTestRunner(resultclass=JUnitResult, verbosity=2, stream=sys.stdout).run(tests)
-    if xml:
-        pathlib.Path(xml).parent.mkdir(parents=True, exist_ok=True)
-        write_junit(result, xml, pathlib.Path(__file__).stem)
-    return 0 if result.wasSuccessful() else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.path.insert(0, str(REPO / "test" / "docs"))
+    from test_docs import main  # noqa: E402  (the runner and JUnit output the script tests share)
+    sys.exit(main(sys.argv[1:], sys.modules[__name__]))
