@@ -161,4 +161,18 @@ void checkIntrinsics(const CameraIntrinsics& k) {
   }
 }
 
+std::optional<ImageDisc> projectDisc(const CameraModel& camera, const Eigen::Vector3d& centre,
+                                     double radius) {
+  const auto middle = camera.project(centre);
+  if (!middle) return std::nullopt;
+  ImageDisc disc{*middle, 0, camera.inImage(*middle)};
+  for (const Eigen::Vector3d& offset : {Eigen::Vector3d(radius, 0, 0), Eigen::Vector3d(-radius, 0, 0),
+                                        Eigen::Vector3d(0, radius, 0), Eigen::Vector3d(0, -radius, 0)}) {
+    const auto rim = camera.project(centre + offset);
+    disc.whole = disc.whole && rim && camera.inImage(*rim);
+    if (rim) disc.radius = std::max(disc.radius, (*rim - *middle).norm());
+  }
+  return disc;
+}
+
 }  // namespace soccer_vision

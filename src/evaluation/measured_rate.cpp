@@ -14,19 +14,11 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
   for (const RobotRecord& robot : truth.robots) {
     if (!robot.visible.value_or(false)) continue;
     // Whole in this camera's image: its top's rim projects inside (4 points suffice here).
-    const Eigen::Vector3d centre(robot.x, robot.y, body_.top_height[static_cast<std::size_t>(robot.team)]);
-    const auto pixel = camera.project(centre);
-    if (!pixel || !camera.inImage(*pixel)) continue;
-    double radius_px = 0;
-    bool inside = true;
-    for (const Eigen::Vector3d& offset :
-         {Eigen::Vector3d(body_.radius, 0, 0), Eigen::Vector3d(-body_.radius, 0, 0),
-          Eigen::Vector3d(0, body_.radius, 0), Eigen::Vector3d(0, -body_.radius, 0)}) {
-      const auto rim = camera.project(centre + offset);
-      inside = inside && rim && camera.inImage(*rim);
-      if (rim) radius_px = std::max(radius_px, (*rim - *pixel).norm());
-    }
-    if (!inside) continue;
+    const auto top =
+        projectDisc(camera, {robot.x, robot.y, heightOf(body_.top_height, robot.team)}, body_.radius);
+    if (!top || !top->whole) continue;
+    const Eigen::Vector2d& pixel = top->centre;
+    const double radius_px = top->radius;
     MeasuredRate& own = by_robot_[{robot.team, robot.id}];
     // Each outcome counts in the total and in the robot's own counts.
     const auto count = [&](std::int64_t MeasuredRate::*field) {
@@ -47,14 +39,14 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
     }
     const auto miss = [&](std::int64_t MeasuredRate::*field, const char* cause) {
       count(field);
-      misses_.push_back({truth.stamp, camera_id, robot.team, robot.id, cause, *pixel});
+      misses_.push_back({truth.stamp, camera_id, robot.team, robot.id, cause, pixel});
     };
     if (near) {
       miss(&MeasuredRate::wrong_id, "wrong_id");
       continue;
     }
     bool segmented = false;
-    for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - *pixel).norm() <= radius_px;
+    for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - pixel).norm() <= radius_px;
     if (segmented)
       miss(&MeasuredRate::identification_rejected, "identification_rejected");
     else

@@ -11,21 +11,19 @@ BallDetector::BallDetector(const CameraModel& camera, const FieldGeometry& field
                            const BallDetectionParams& params, const RobotTop& robot_top)
     : camera_(camera), field_(field), params_(params), robot_top_(robot_top) {}
 
-bool BallDetector::onRobotTop(const Eigen::Vector2d& pixel, const std::vector<RobotDetection>& robots) const {
-  if (params_.robot_top_fraction <= 0) return false;
+std::vector<ImageDisc> BallDetector::robotTops(const std::vector<RobotDetection>& robots) const {
+  std::vector<ImageDisc> tops;
+  if (params_.robot_top_fraction <= 0) return tops;
   for (const RobotDetection& robot : robots) {
-    // The top's radius in the image: its rim's farthest of 4 points from the centre's pixel.
-    const Eigen::Vector3d centre(robot.x, robot.y, robot_top_.height[static_cast<std::size_t>(robot.team)]);
-    const auto middle = camera_.project(centre);
-    if (!middle) continue;
-    double radius_px = 0;
-    for (const Eigen::Vector3d& offset :
-         {Eigen::Vector3d(robot_top_.radius, 0, 0), Eigen::Vector3d(-robot_top_.radius, 0, 0),
-          Eigen::Vector3d(0, robot_top_.radius, 0), Eigen::Vector3d(0, -robot_top_.radius, 0)}) {
-      if (const auto rim = camera_.project(centre + offset))
-        radius_px = std::max(radius_px, (*rim - *middle).norm());
-    }
-    if ((pixel - *middle).norm() < params_.robot_top_fraction * radius_px) return true;
+    const Eigen::Vector3d centre(robot.x, robot.y, heightOf(robot_top_.height, robot.team));
+    if (const auto top = projectDisc(camera_, centre, robot_top_.radius)) tops.push_back(*top);
+  }
+  return tops;
+}
+
+bool BallDetector::onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const {
+  for (const ImageDisc& top : tops) {
+    if ((pixel - top.centre).norm() < params_.robot_top_fraction * top.radius) return true;
   }
   return false;
 }
@@ -35,6 +33,7 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
                                                 RejectionCounts* rejections,
                                                 const std::vector<RobotDetection>& robots) const {
   RejectionCounts rejected;
+  const std::vector<ImageDisc> tops = robotTops(robots);
   // Orange fragments near each other are one ball: a ball faster than its own diameter per
   // exposure is a streak that segmentation may cut into pieces (its faint middle).
   struct Fragment {
@@ -100,7 +99,7 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
       rejected.add(RejectionCause::Projection);
       continue;
     }
-    if (onRobotTop(pixel, robots)) {
+    if (onRobotTop(pixel, tops)) {
       rejected.add(RejectionCause::BallOnRobot);
       continue;
     }

@@ -86,7 +86,7 @@ class Matcher {
         pattern_(pattern),
         params_(params),
         axis_weight_(axis_weight),
-        height_{pattern.height(Team::Blue), pattern.height(Team::Yellow)} {
+        height_(pattern.heights()) {
     const std::size_t n_slots = pattern.slots.size();
     team_pos_ = {pattern.team_marker.x, pattern.team_marker.y};
     slot_colors_.assign(n_slots, 0);
@@ -121,7 +121,7 @@ class Matcher {
       // belong to.
       Observed o{static_cast<int>(r), c, {}, {}, static_cast<double>(regions[r].area)};
       if (team) {
-        const auto full = projectToPlane(regions[r], camera, height_[index(teamOfColor(c))]);
+        const auto full = projectToPlane(regions[r], camera, heightOf(height_, teamOfColor(c)));
         if (!full) {
           ++unprojectable_teams_;
           continue;
@@ -142,7 +142,7 @@ class Matcher {
 
   const std::vector<Observed>& observed() const { return observed_; }
   // The marker plane of `team`'s robots.
-  double height(Team team) const { return height_[index(team)]; }
+  double height(Team team) const { return heightOf(height_, team); }
   const std::vector<int>& teams() const { return teams_; }
   int unprojectableTeams() const { return unprojectable_teams_; }
 
@@ -395,8 +395,8 @@ class Matcher {
   const CameraModel& camera_;
   const PatternSet& pattern_;
   const RobotIdentificationParams& params_;
-  const double axis_weight_;            // the team-tag axis' share for these regions
-  const std::array<double, 2> height_;  // the teams' marker planes (index: Team)
+  const double axis_weight_;  // the team-tag axis' share for these regions
+  const TeamHeights height_;  // the teams' marker planes
   Eigen::Vector2d team_pos_;
   double team_weight_ = 0;                 // team tag area: its weight in the fit
   std::vector<Eigen::Vector2d> slot_pos_;  // slot centres, robot frame

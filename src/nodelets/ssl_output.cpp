@@ -139,7 +139,7 @@ void SslOutputNodelet::onInit() {
     // The pattern's heights, per team (identification projected each team onto its own).
     try {
       const PatternSet patterns = patternSetByName(pattern);
-      detection_options_.robot_height = {patterns.height(Team::Blue), patterns.height(Team::Yellow)};
+      detection_options_.robot_height = patterns.heights();
     } catch (const std::exception& e) {
       NODELET_ERROR("pattern: %s; sending robot_height %g m for both teams", e.what(), robot_height);
     }

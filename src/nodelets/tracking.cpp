@@ -4,7 +4,6 @@
 // all cameras, so a robot in the overlap is one track. Parameters and topics:
 // docs/nodelets.md, generated from cfg/Tracking.cfg and cfg/Tracking.params.yaml.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -89,7 +88,7 @@ class TrackingNodelet : public nodelet::Nodelet {
   SearchPlannerParams search_params_;
   bool show_windows_ = false;
   MarkerStyle marker_style_;
-  std::array<double, 2> robot_height_{0.150, 0.150};  // [m] the pattern's marker planes (index: Team)
+  TeamHeights robot_height_{0.150, 0.150};  // [m] the pattern's marker planes
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::WallTimer diag_timer_;
@@ -146,7 +145,7 @@ void TrackingNodelet::onInit() {
   pnh.param("pattern", pattern, std::string("two_tag"));
   try {
     const PatternSet patterns = patternSetByName(pattern);
-    robot_height_ = {patterns.height(Team::Blue), patterns.height(Team::Yellow)};
+    robot_height_ = patterns.heights();
   } catch (const std::exception& e) {
     NODELET_ERROR("pattern: %s; robots at 0.15 m", e.what());
   }
@@ -371,7 +370,7 @@ void TrackingNodelet::publishTf(const TrackerOutput& out, const ros::Time& stamp
   for (const TrackedRobot& r : out.robots) {
     const std::string name = std::string(teamName(r.team)) + "_" +
                              (r.id >= 0 ? std::to_string(r.id) : "track" + std::to_string(r.track_id));
-    transforms.push_back(planarTransform(r.x, r.y, robot_height_[static_cast<std::size_t>(r.team)],
+    transforms.push_back(planarTransform(r.x, r.y, heightOf(robot_height_, r.team),
                                          r.heading_valid ? r.theta : 0.0, field_frame_, "robot/" + name,
                                          stamp));
   }

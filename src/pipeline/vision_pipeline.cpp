@@ -39,7 +39,7 @@ TrackerParams withField(TrackerParams p, const FieldGeometry& field) {
 
 // A robot's window is centred where its team's marker plane puts it.
 VisionPipelineParams withTeamHeights(VisionPipelineParams p, const PatternSet& patterns) {
-  p.search.windows.robot_height = {patterns.height(Team::Blue), patterns.height(Team::Yellow)};
+  p.search.windows.robot_height = patterns.heights();
   return p;
 }
 }  // namespace

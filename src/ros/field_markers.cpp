@@ -86,7 +86,7 @@ void appendGameMarkers(const RobotPoseArray& robots, const BallPoseArray& balls,
   for (const RobotPose& r : robots.robots) {
     const bool blue = r.team == RobotPose::TEAM_BLUE;
     const int id = (blue ? 0 : 256) + r.id;
-    const double height = style.robot_height[static_cast<std::size_t>(blue ? Team::Blue : Team::Yellow)];
+    const double height = heightOf(style.robot_height, blue ? Team::Blue : Team::Yellow);
     const float alpha = r.visible ? 1.0f : 0.4f;
     std_msgs::Header header = robots.header;
 

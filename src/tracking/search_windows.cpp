@@ -70,7 +70,7 @@ std::vector<SearchWindow> searchWindows(const TrackerOutput& predicted, const Ca
   std::vector<SearchWindow> out;
   for (const auto& r : predicted.robots) {
     const double grow = params.sigma_scale * largestSigma(r.position_covariance);
-    auto w = window(camera, {r.x, r.y, params.robot_height[static_cast<std::size_t>(r.team)]}, grow, params);
+    auto w = window(camera, {r.x, r.y, heightOf(params.robot_height, r.team)}, grow, params);
     if (!w) continue;
     w->target = SearchWindow::Target::Robot;
     w->track_id = r.track_id;

@@ -76,4 +76,15 @@ class CameraModel {
   Eigen::Isometry3d camera_T_field_ = Eigen::Isometry3d::Identity();  // its inverse, for project()
 };
 
+// The image of a horizontal disc of `radius` centred at `centre` (a robot's top): its
+// centre's pixel and its radius in pixels, the farthest of 4 rim points (±radius along x
+// and y) that project; `whole` when the centre and those 4 points all lie in the image.
+// nullopt when the centre is behind the camera.
+struct ImageDisc {
+  Eigen::Vector2d centre{0, 0};
+  double radius = 0;
+  bool whole = false;
+};
+std::optional<ImageDisc> projectDisc(const CameraModel& camera, const Eigen::Vector3d& centre, double radius);
+
 }  // namespace soccer_vision

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,13 @@ struct MarkerShape {
   double radius = 0;              // Disc, m
   double size_x = 0, size_y = 0;  // Rect: full extent along robot x and y, m
 };
+
+// The marker plane of each team's robots, m (index: Team): how every stage that projects
+// robots keeps the pattern's heights (PatternSet::heights), read through heightOf.
+using TeamHeights = std::array<double, 2>;
+inline double heightOf(const TeamHeights& heights, Team team) {
+  return heights[static_cast<std::size_t>(team)];
+}
 
 struct ColoredMarker {
   MarkerShape shape;
@@ -44,6 +52,7 @@ struct PatternSet {
     const auto& own = team_height[static_cast<std::size_t>(team)];
     return own ? *own : robot_height;
   }
+  TeamHeights heights() const { return {height(Team::Blue), height(Team::Yellow)}; }
   // Every marker of robot (team, id), team marker first.
   std::vector<ColoredMarker> markers(Team team, int id) const;
 

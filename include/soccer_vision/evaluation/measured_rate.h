@@ -8,8 +8,6 @@
 //   nothing segmented:        not even a marker-coloured region there.
 #pragma once
 
-#include <array>
-#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -20,6 +18,7 @@
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/detections.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/common/robot_pattern.h"
 
 namespace soccer_vision {
 
@@ -43,8 +42,8 @@ struct MissedRobot {
 };
 
 struct RobotBody {
-  std::array<double, 2> top_height{0.15, 0.15};  // m: the marker plane per team (index: Team)
-  double radius = 0.09;                          // m
+  TeamHeights top_height{0.15, 0.15};  // m: the marker plane per team
+  double radius = 0.09;                // m
 };
 
 class MeasuredRateCounter {

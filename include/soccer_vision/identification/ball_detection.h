@@ -13,8 +13,6 @@
 // out of play; orange shoes and clothes stand there), best first.
 #pragma once
 
-#include <array>
-#include <cstddef>
 #include <vector>
 
 #include "soccer_vision/common/camera_model.h"
@@ -49,12 +47,10 @@ struct BallDetectionParams {
 
 // The robots' top as the pattern gives it: what an orange cluster must not lie on.
 struct RobotTop {
-  double radius = 0.090;                       // m
-  std::array<double, 2> height{0.150, 0.150};  // m, per team (index: Team)
+  double radius = 0.090;             // m
+  TeamHeights height{0.150, 0.150};  // m, per team
 
-  static RobotTop of(const PatternSet& patterns) {
-    return {patterns.robot_radius, {patterns.height(Team::Blue), patterns.height(Team::Yellow)}};
-  }
+  static RobotTop of(const PatternSet& patterns) { return {patterns.robot_radius, patterns.heights()}; }
 };
 
 class BallDetector {
@@ -73,8 +69,10 @@ class BallDetector {
                                     const std::vector<RobotDetection>& robots = {}) const;
 
  private:
-  // Whether an image point lies within robot_top_fraction of one of the robots' tops.
-  bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<RobotDetection>& robots) const;
+  // The robots' tops in the image, once per frame (none when robot_top_fraction is 0).
+  std::vector<ImageDisc> robotTops(const std::vector<RobotDetection>& robots) const;
+  // Whether an image point lies within robot_top_fraction of one of those tops.
+  bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const;
 
   CameraModel camera_;
   FieldGeometry field_;

@@ -3,8 +3,6 @@
 // window outlines. Shared by the Tracking nodelet and the tools.
 #pragma once
 
-#include <array>
-#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -13,16 +11,16 @@
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
-#include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/field_geometry.h"
+#include "soccer_vision/common/robot_pattern.h"
 
 namespace soccer_vision {
 
 struct MarkerStyle {
-  double robot_radius = 0.090;                       // m
-  std::array<double, 2> robot_height{0.150, 0.150};  // m, per team (index: Team)
-  double ball_radius = 0.0215;                       // m
-  double lifetime = 0.25;                            // s: a robot no longer published disappears after this
+  double robot_radius = 0.090;             // m
+  TeamHeights robot_height{0.150, 0.150};  // m, per team
+  double ball_radius = 0.0215;             // m
+  double lifetime = 0.25;                  // s: a robot no longer published disappears after this
 };
 
 // The carpet and its white lines in `frame` (namespace "field"), stamp 0: static.

@@ -3,21 +3,20 @@
 // width), so a position only changes unit: m -> mm; headings stay in rad.
 #pragma once
 
-#include <array>
-#include <cstddef>
 #include <cstdint>
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/detections.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "ssl_vision_wrapper.pb.h"
 
 namespace soccer_vision::ssl {
 
 struct DetectionPacketOptions {
-  // [m] the marker plane each team's robots were projected onto (index: Team; the
-  // pattern's PatternSet::height), sent as their `height`.
-  std::array<double, 2> robot_height{0.150, 0.150};
-  double height(Team team) const { return robot_height[static_cast<std::size_t>(team)]; }
+  // [m] the marker plane each team's robots were projected onto (the pattern's
+  // PatternSet::heights), sent as their `height`.
+  TeamHeights robot_height{0.150, 0.150};
+  double height(Team team) const { return heightOf(robot_height, team); }
 };
 
 // frame_number counts this camera's frames; t_sent is the Unix time [s] of sending.

@@ -10,8 +10,6 @@
 // at max_side_px, clipped to the image, and dropped when nothing of it is in the image.
 #pragma once
 
-#include <array>
-#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -19,14 +17,15 @@
 
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/color_class.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/tracking/tracker.h"
 
 namespace soccer_vision {
 
 struct SearchWindowParams {
   int side_px = 200;  // R [px], side of the window before enlargement
-  // [m] plane of the robot markers per team (index: Team; PatternSet::height).
-  std::array<double, 2> robot_height{0.150, 0.150};
+  // [m] plane of the robot markers per team (PatternSet::heights).
+  TeamHeights robot_height{0.150, 0.150};
   double ball_height = 0.0215;     // [m] plane of the ball centre
   double sigma_scale = 3.0;        // grow by this many std-devs of the predicted position (0: off)
   double ball_speed_margin = 0.5;  // grow ball windows by this fraction of one frame's travel (0: off)

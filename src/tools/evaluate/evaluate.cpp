@@ -327,7 +327,7 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
   sv::VisionPipeline pipeline(setup.cameras, setup.patterns, setup.field, params);
   RunStats s;
   sv::RobotBody body;
-  body.top_height = {setup.patterns.height(sv::Team::Blue), setup.patterns.height(sv::Team::Yellow)};
+  body.top_height = setup.patterns.heights();
   body.radius = setup.patterns.robot_radius;
   s.measured = sv::MeasuredRateCounter(body);
   std::vector<int> ids;
