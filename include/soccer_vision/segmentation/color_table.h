@@ -98,6 +98,13 @@ struct ColorTableParams {
   double generalize_sigmas = 3.0;
   double spread_l = 6.0;   // ΔE
   double spread_ab = 5.0;  // ΔE
+  // With generalisation: each valid sample of a robot's marker colour (not the ball's) also
+  // stands for its own chromaticity at 1 − x and 1 / (1 − x) of its brightness, for x = 0.1,
+  // 0.15, … up to this share. A marker's V after normalisation still varies by
+  // about that much: the light within a 32-px block is not flat (vignetting, lamp falloff),
+  // prints differ, and a small marker's blur with the black robot top dims it without
+  // changing its hue. 0 = off. docs/segmentation.md: 0.2 by measurement on tuning seeds.
+  double brightness_spread = 0.2;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
   // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
