@@ -485,9 +485,10 @@ TEST_F(SegmentationTest, BadCalibrateRequestsAreRefusedWithTheirReason) {
             std::to_string(500 + 50 * std::sin(a)) + "]";
   }
   many += "]\n";
-  // Two classes sampled on the same pixels: the Bayes decisions give every cell to one.
+  // Two robot marker classes sampled on the same pixels (the same brightness variants too):
+  // the Bayes decisions give every cell to one.
   sv::ColorSamples twins = samples();
-  twins[sv::ColorClass::Orange] = twins.at(sv::ColorClass::Pink);
+  twins[sv::ColorClass::Purple] = twins.at(sv::ColorClass::Pink);
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"pink:\n  - [[600, 500], [.nan, 500], [610, 510]]\n", "finite"},
       {"pink:\n  - [[600, 500], [1e300, 500], [610, 510]]\n", "finite pixel coordinate within"},
