@@ -144,6 +144,29 @@ void appendBrightnessVariants(const SamplePixel& sample, Hsv hsv, double spread,
   }
 }
 
+// The ball sits on the carpet: its rim, and all of it when it moves during the exposure,
+// mixes with the carpet's colour (ColorTableParams::ball_carpet_mix). `carpet`: the carpet
+// samples' mean colour, normalised like the samples.
+void appendCarpetMixVariant(const SamplePixel& sample, const cv::Vec3d& carpet, double mix,
+                            std::vector<Hsv>& hsv, std::vector<Lab>& lab) {
+  const cv::Vec3b p =
+      scaledToV(sample.bgr, std::max({sample.bgr[0], sample.bgr[1], sample.bgr[2]}), sample.v);
+  cv::Vec3b q;
+  for (int k = 0; k < 3; ++k) q[k] = cv::saturate_cast<std::uint8_t>((1 - mix) * p[k] + mix * carpet[k]);
+  hsv.push_back(bgrToHsv(q[0], q[1], q[2]));
+  lab.push_back(bgrToLab(q[0], q[1], q[2]));
+}
+
+// Mean colour of a class's samples, each scaled to its normalised V.
+cv::Vec3d meanNormalisedColour(const std::vector<SamplePixel>& pixels) {
+  cv::Vec3d sum(0, 0, 0);
+  for (const SamplePixel& p : pixels) {
+    const cv::Vec3b n = scaledToV(p.bgr, std::max({p.bgr[0], p.bgr[1], p.bgr[2]}), p.v);
+    sum += cv::Vec3d(n[0], n[1], n[2]);
+  }
+  return pixels.empty() ? sum : sum * (1.0 / static_cast<double>(pixels.size()));
+}
+
 double circularMeanDegrees(const std::vector<Hsv>& pixels) {
   double sx = 0, sy = 0;
   for (const Hsv& p : pixels) {
@@ -505,6 +528,7 @@ void ColorTableParams::validate() const {
     fail("spread_l and spread_ab must be in (0, 100]");
   }
   if (!(brightness_spread >= 0 && brightness_spread <= 0.5)) fail("brightness_spread must be in 0..0.5");
+  if (!(ball_carpet_mix >= 0 && ball_carpet_mix <= 0.5)) fail("ball_carpet_mix must be in 0..0.5");
   auto check = [&](const ClassThresholds& t, const std::string& who) {
     if (!(t.lab > 0) || !(t.h > 0)) fail(who + ": thresholds must be positive");
   };
@@ -613,6 +637,15 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       for (std::size_t i = 0; i < pixels.size(); ++i) {
         if (centre.valid[i])
           appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, valid, valid_lab);
+      }
+    }
+    const auto carpet = samples.find(ColorClass::Carpet);
+    if (generalize && params.ball_carpet_mix > 0 && color == ColorClass::Orange && carpet != samples.end() &&
+        !carpet->second.empty()) {
+      const cv::Vec3d carpet_colour = meanNormalisedColour(carpet->second);
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        if (centre.valid[i])
+          appendCarpetMixVariant(pixels[i], carpet_colour, params.ball_carpet_mix, valid, valid_lab);
       }
     }
     fitGaussian(valid, params, st);

@@ -82,6 +82,10 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
                  "share of brightness a robot marker's samples also stand for, darker and brighter; 0: off")
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
+  app.add_option("--ball-carpet-mix", o.params.ball_carpet_mix,
+                 "share of the carpet's colour the ball's samples are also mixed with; 0: off")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
       ->capture_default_str();

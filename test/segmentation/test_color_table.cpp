@@ -304,6 +304,39 @@ TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   EXPECT_THROW(off.validate(), std::invalid_argument);
 }
 
+TEST(ColorTable, ABallMixedWithTheCarpetKeepsItsColour) {
+  // A ball moving during the exposure mixes with the carpet it rolls on. The ball's samples
+  // also stand for themselves mixed with 10 % of the carpet's colour, so its Gaussian
+  // reaches a quarter carpet, where without that it stops at a fifth; the yellow print and
+  // the carpet keep their classes.
+  ClassSamplePixels samples;
+  for (int i = 0; i < 9; ++i) {
+    const int d = i % 3 - 1;
+    samples[ColorClass::Orange].push_back({cv::Vec3b(8 + d, 95 - d, 215), 215});
+    samples[ColorClass::Yellow].push_back({cv::Vec3b(32 + d, 170 - d, 240), 240});
+    samples[ColorClass::Red].push_back({cv::Vec3b(38 + d, 40 - d, 230 + d), 230});
+  }
+  for (int i = 0; i < 40; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(55 + d, 120 - d, 50 + d), 120});
+  }
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples);
+  ColorTableParams off;
+  off.ball_carpet_mix = 0;
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
+  // 0.75 x (8, 95, 215) + 0.25 x (55, 120, 50)
+  EXPECT_EQ(with.classify(20, 101, 174), ColorClass::Orange);
+  EXPECT_NE(without.classify(20, 101, 174), ColorClass::Orange);
+  EXPECT_EQ(with.classify(32, 170, 240), ColorClass::Yellow);
+  EXPECT_EQ(with.classify(38, 40, 230), ColorClass::Red);
+  EXPECT_EQ(with.classify(55, 120, 50), ColorClass::Carpet);
+  // Without carpet samples there is nothing to mix with: the table is the one without.
+  samples.erase(ColorClass::Carpet);
+  EXPECT_NE(ColorTable::buildFromSamplePixels(samples).classify(20, 101, 174), ColorClass::Orange);
+  off.ball_carpet_mix = 0.6;
+  EXPECT_THROW(off.validate(), std::invalid_argument);
+}
+
 TEST(ColorTable, ThresholdsCutBetweenSamplesAndPerClassOverridesApply) {
   // Two samples: their mean lies halfway, so each is at half their Lab distance from it.
   const cv::Vec3b x(200, 100, 50), y(200, 110, 50);

@@ -105,6 +105,12 @@ struct ColorTableParams {
   // prints differ, and a small marker's blur with the black robot top dims it without
   // changing its hue. 0 = off. docs/segmentation.md: 0.2 by measurement on tuning seeds.
   double brightness_spread = 0.2;
+  // With generalisation and carpet samples: each valid sample of the ball's orange also
+  // stands for itself mixed with this share of the carpet's mean colour. The ball's rim,
+  // and the whole ball while it moves during the exposure, mix with the carpet it rolls
+  // on. 0 = off. docs/segmentation.md: more than 0.1 took a yellow print's cells under a
+  // warm lamp on a tuning seed.
+  double ball_carpet_mix = 0.1;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
   // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
