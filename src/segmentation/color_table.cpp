@@ -90,6 +90,11 @@ cv::Vec3b scaledToV(const cv::Vec3b& p, int from, int to) {
           cv::saturate_cast<std::uint8_t>(p[2] * f)};
 }
 
+// A sample's colour under the mean light: scaled to its normalised V.
+cv::Vec3b normalisedColour(const SamplePixel& sample) {
+  return scaledToV(sample.bgr, std::max({sample.bgr[0], sample.bgr[1], sample.bgr[2]}), sample.v);
+}
+
 // A sample with a channel at the sensor's ceiling shows a hue that is not its colour's:
 // under a bright lamp a yellow marker's red saturates, the sample reads 51° where the same
 // print under the mean light reads 38°, and a pink reads bluer than it is. The clipped
@@ -149,8 +154,7 @@ void appendBrightnessVariants(const SamplePixel& sample, Hsv hsv, double spread,
 // samples' mean colour, normalised like the samples.
 void appendCarpetMixVariant(const SamplePixel& sample, const cv::Vec3d& carpet, double mix,
                             std::vector<Hsv>& hsv, std::vector<Lab>& lab) {
-  const cv::Vec3b p =
-      scaledToV(sample.bgr, std::max({sample.bgr[0], sample.bgr[1], sample.bgr[2]}), sample.v);
+  const cv::Vec3b p = normalisedColour(sample);
   cv::Vec3b q;
   for (int k = 0; k < 3; ++k) q[k] = cv::saturate_cast<std::uint8_t>((1 - mix) * p[k] + mix * carpet[k]);
   hsv.push_back(bgrToHsv(q[0], q[1], q[2]));
@@ -161,7 +165,7 @@ void appendCarpetMixVariant(const SamplePixel& sample, const cv::Vec3d& carpet, 
 cv::Vec3d meanNormalisedColour(const std::vector<SamplePixel>& pixels) {
   cv::Vec3d sum(0, 0, 0);
   for (const SamplePixel& p : pixels) {
-    const cv::Vec3b n = scaledToV(p.bgr, std::max({p.bgr[0], p.bgr[1], p.bgr[2]}), p.v);
+    const cv::Vec3b n = normalisedColour(p);
     sum += cv::Vec3d(n[0], n[1], n[2]);
   }
   return pixels.empty() ? sum : sum * (1.0 / static_cast<double>(pixels.size()));
@@ -609,7 +613,7 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     lab.reserve(pixels.size());
     for (const SamplePixel& sample : pixels) {
       hsv.push_back(bgrToHsv(sample.bgr[0], sample.bgr[1], sample.bgr[2]));
-      const cv::Vec3b p = scaledToV(sample.bgr, static_cast<int>(hsv.back().v), sample.v);
+      const cv::Vec3b p = normalisedColour(sample);
       hsv.back().v = sample.v;
       lab.push_back(bgrToLab(p[0], p[1], p[2]));
       st.mean_lab.l += lab.back().l;
