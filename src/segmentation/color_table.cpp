@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -597,6 +598,12 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     for (std::size_t i = 0; i < n_cells; ++i) background_cell[i] = counts[i] > limit;
   }
 
+  // What the ball's samples are mixed with (ColorTableParams::ball_carpet_mix), if anything.
+  std::optional<cv::Vec3d> carpet_colour;
+  const auto carpet = samples.find(ColorClass::Carpet);
+  if (generalize && params.ball_carpet_mix > 0 && carpet != samples.end() && !carpet->second.empty())
+    carpet_colour = meanNormalisedColour(carpet->second);
+
   for (const auto& [color, pixels] : samples) {
     if (color == ColorClass::None || color >= ColorClass::Count) {
       throw std::invalid_argument("colour table: samples for '" + std::string(colorClassName(color)) +
@@ -637,19 +644,16 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       if (centre.valid[i]) appendUnclippedVariants(pixels[i], valid, valid_lab);
     }
-    if (generalize && params.brightness_spread > 0 && isMarkerColor(color) && color != ColorClass::Orange) {
+    if (generalize && params.brightness_spread > 0 && isRobotMarkerColor(color)) {
       for (std::size_t i = 0; i < pixels.size(); ++i) {
         if (centre.valid[i])
           appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, valid, valid_lab);
       }
     }
-    const auto carpet = samples.find(ColorClass::Carpet);
-    if (generalize && params.ball_carpet_mix > 0 && color == ColorClass::Orange && carpet != samples.end() &&
-        !carpet->second.empty()) {
-      const cv::Vec3d carpet_colour = meanNormalisedColour(carpet->second);
+    if (color == ColorClass::Orange && carpet_colour) {
       for (std::size_t i = 0; i < pixels.size(); ++i) {
         if (centre.valid[i])
-          appendCarpetMixVariant(pixels[i], carpet_colour, params.ball_carpet_mix, valid, valid_lab);
+          appendCarpetMixVariant(pixels[i], *carpet_colour, params.ball_carpet_mix, valid, valid_lab);
       }
     }
     fitGaussian(valid, params, st);

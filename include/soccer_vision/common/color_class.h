@@ -35,6 +35,8 @@ std::optional<ColorClass> parseColorClass(std::string_view name);
 
 // A marker colour is one a robot pattern or the ball uses (Blue..Orange).
 constexpr bool isMarkerColor(ColorClass c) { return c >= ColorClass::Blue && c <= ColorClass::Orange; }
+// A colour a robot pattern uses (Blue..Red): a marker colour but the ball's.
+constexpr bool isRobotMarkerColor(ColorClass c) { return isMarkerColor(c) && c != ColorClass::Orange; }
 
 enum class Team : std::uint8_t { Blue = 0, Yellow = 1 };
 std::string_view teamName(Team t);

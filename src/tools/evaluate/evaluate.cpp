@@ -366,8 +366,7 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
         std::vector<Eigen::Vector2d> marker_regions;
         for (const sv::Region& r : f.regions) {
           // The ball's colour is no robot's: a region of it is no hint of a robot.
-          if (sv::isMarkerColor(r.color) && r.color != sv::ColorClass::Orange)
-            marker_regions.emplace_back(r.cx, r.cy);
+          if (sv::isRobotMarkerColor(r.color)) marker_regions.emplace_back(r.cx, r.cy);
         }
         s.measured.add(*truth, pc.model, f.detections.robots, marker_regions, camera.id);
         if (!f.tracker_reset) s.evaluation.addPrediction(*truth, f.prediction);
