@@ -151,15 +151,33 @@ void appendBrightnessVariants(const SamplePixel& sample, Hsv hsv, double spread,
 }
 
 // The ball sits on the carpet: its rim, and all of it when it moves during the exposure,
-// mixes with the carpet's colour (ColorTableParams::ball_carpet_mix). `carpet`: the carpet
-// samples' mean colour, normalised like the samples.
+// mixes with the carpet's colour. A sample stands for itself with `mix` of the carpet's
+// colour; a negative `mix` unmixes: the sharp ball whose blurred streak the sample may
+// show. `carpet`: the carpet samples' mean colour, normalised like the samples. A sample
+// whose unmixed colour would leave 0..255 cannot be that mixture (a sharp ball's sample)
+// and stands for nothing at that level.
 void appendCarpetMixVariant(const SamplePixel& sample, const cv::Vec3d& carpet, double mix,
                             std::vector<Hsv>& hsv, std::vector<Lab>& lab) {
   const cv::Vec3b p = normalisedColour(sample);
   cv::Vec3b q;
-  for (int k = 0; k < 3; ++k) q[k] = cv::saturate_cast<std::uint8_t>((1 - mix) * p[k] + mix * carpet[k]);
+  for (int k = 0; k < 3; ++k) {
+    const double c = (1 - mix) * p[k] + mix * carpet[k];
+    if (c < 0 || c > 255) return;
+    q[k] = cv::saturate_cast<std::uint8_t>(c);
+  }
   hsv.push_back(bgrToHsv(q[0], q[1], q[2]));
   lab.push_back(bgrToLab(q[0], q[1], q[2]));
+}
+
+// The mixture levels of the ball's samples (appendCarpetMixVariant): the carpet's share
+// 0.1, 0.2, … up to ball_carpet_mix, and the blurred share 0.1, 0.2, … up to
+// ball_carpet_unmix taken back out (mix −s / (1 − s)).
+std::vector<double> carpetMixtureLevels(const ColorTableParams& params) {
+  constexpr double kStep = 0.1;
+  std::vector<double> levels;
+  for (double m = kStep; m <= params.ball_carpet_mix + 1e-9; m += kStep) levels.push_back(m);
+  for (double m = kStep; m <= params.ball_carpet_unmix + 1e-9; m += kStep) levels.push_back(-m / (1 - m));
+  return levels;
 }
 
 // Mean colour of a class's samples, each scaled to its normalised V.
@@ -270,10 +288,17 @@ struct LabGaussian {
   double logLikelihood(const Lab& x) const { return -0.5 * (mahalanobis2(x) + log_det); }
 };
 
+Eigen::Vector3d meanLab(const std::vector<Lab>& colours) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  const double n = static_cast<double>(colours.size());
+  for (const Lab& x : colours) mean += Eigen::Vector3d(x.l, x.a, x.b) / n;
+  return mean;
+}
+
 LabGaussian fitLabGaussian(const std::vector<Lab>& valid, const ColorTableParams& params) {
   LabGaussian g;
   const double n = static_cast<double>(valid.size());
-  for (const Lab& x : valid) g.mean += Eigen::Vector3d(x.l, x.a, x.b) / n;
+  g.mean = meanLab(valid);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const Lab& x : valid) {
     const Eigen::Vector3d d = Eigen::Vector3d(x.l, x.a, x.b) - g.mean;
@@ -286,6 +311,26 @@ LabGaussian fitLabGaussian(const std::vector<Lab>& valid, const ColorTableParams
   g.log_det = std::log(cov.determinant());
   return g;
 }
+
+// What a class generalises from: one Gaussian, or for the ball also one per level of its
+// mixture with the carpet (ColorTableParams::ball_carpet_mix, ball_carpet_unmix), each the
+// sharp samples' Gaussian moved along the mixture line. A cell is the class's when one of
+// them reaches it, and the nearest competes with the other classes. One Gaussian fitted to
+// the whole line would reach as far across the line as along it.
+struct ClassModel {
+  std::vector<LabGaussian> parts;
+
+  double mahalanobis2(const Lab& x) const {
+    double best = HUGE_VAL;
+    for (const LabGaussian& g : parts) best = std::min(best, g.mahalanobis2(x));
+    return best;
+  }
+  double logLikelihood(const Lab& x) const {
+    double best = -HUGE_VAL;
+    for (const LabGaussian& g : parts) best = std::max(best, g.logLikelihood(x));
+    return best;
+  }
+};
 
 // The colours of every cell at which generalisation tests the classes: its centre and 8
 // points a quarter cell inside its corners, so a cell the Gaussian reaches into is found
@@ -534,6 +579,7 @@ void ColorTableParams::validate() const {
   }
   if (!(brightness_spread >= 0 && brightness_spread <= 0.5)) fail("brightness_spread must be in 0..0.5");
   if (!(ball_carpet_mix >= 0 && ball_carpet_mix <= 0.5)) fail("ball_carpet_mix must be in 0..0.5");
+  if (!(ball_carpet_unmix >= 0 && ball_carpet_unmix <= 0.5)) fail("ball_carpet_unmix must be in 0..0.5");
   auto check = [&](const ClassThresholds& t, const std::string& who) {
     if (!(t.lab > 0) || !(t.h > 0)) fail(who + ": thresholds must be positive");
   };
@@ -582,7 +628,7 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
   std::vector<std::uint16_t> claims(n_cells, 0);
   std::vector<int> v_min(hs_cells), v_max(hs_cells);
   const bool generalize = params.generalize_sigmas > 0;
-  std::array<LabGaussian, kNumColorClasses> lab_models;
+  std::array<ClassModel, kNumColorClasses> lab_models;
   const std::vector<Lab> probes = generalize ? cellProbeColors(params) : std::vector<Lab>();
   // Cells the background fills: generalisation leaves them alone.
   std::vector<bool> background_cell;
@@ -598,10 +644,11 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     for (std::size_t i = 0; i < n_cells; ++i) background_cell[i] = counts[i] > limit;
   }
 
-  // What the ball's samples are mixed with (ColorTableParams::ball_carpet_mix), if anything.
+  // What the ball's samples are mixed with (ColorTableParams::ball_carpet_mix, _unmix), if anything.
   std::optional<cv::Vec3d> carpet_colour;
   const auto carpet = samples.find(ColorClass::Carpet);
-  if (generalize && params.ball_carpet_mix > 0 && carpet != samples.end() && !carpet->second.empty())
+  if (generalize && (params.ball_carpet_mix > 0 || params.ball_carpet_unmix > 0) && carpet != samples.end() &&
+      !carpet->second.empty())
     carpet_colour = meanNormalisedColour(carpet->second);
 
   for (const auto& [color, pixels] : samples) {
@@ -650,10 +697,18 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
           appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, valid, valid_lab);
       }
     }
+    // The ball's samples mixed with the carpet and unmixed from it, level by level.
+    std::vector<std::vector<Lab>> mixture_levels;
     if (color == ColorClass::Orange && carpet_colour) {
-      for (std::size_t i = 0; i < pixels.size(); ++i) {
-        if (centre.valid[i])
-          appendCarpetMixVariant(pixels[i], *carpet_colour, params.ball_carpet_mix, valid, valid_lab);
+      for (const double mix : carpetMixtureLevels(params)) {
+        std::vector<Hsv> level_hsv;
+        std::vector<Lab> level_lab;
+        for (std::size_t i = 0; i < pixels.size(); ++i) {
+          if (centre.valid[i]) appendCarpetMixVariant(pixels[i], *carpet_colour, mix, level_hsv, level_lab);
+        }
+        if (level_lab.empty()) continue;
+        valid.insert(valid.end(), level_hsv.begin(), level_hsv.end());  // the body, too
+        mixture_levels.push_back(std::move(level_lab));
       }
     }
     fitGaussian(valid, params, st);
@@ -677,8 +732,13 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       }
     }
     if (generalize && !valid.empty()) {
-      const LabGaussian& model = lab_models[static_cast<std::size_t>(color)] =
-          fitLabGaussian(valid_lab, params);
+      ClassModel& model = lab_models[static_cast<std::size_t>(color)];
+      model.parts.push_back(fitLabGaussian(valid_lab, params));
+      for (const std::vector<Lab>& level : mixture_levels) {
+        LabGaussian moved = model.parts.front();
+        moved.mean = meanLab(level);
+        model.parts.push_back(moved);
+      }
       const double bound = params.generalize_sigmas * params.generalize_sigmas;
       for (std::size_t i = 0; i < n_cells; ++i) {
         if ((claims[i] & bit) || (!background_cell.empty() && background_cell[i])) continue;

@@ -13,8 +13,8 @@
 //       [--calibration-frame auto|N]
 //
 // --sample-inset PX: the calibration frame's marker and ball polygons (samples.yaml) PX
-// pixels inside their outlines, as a user draws them; --click-noise PX: field_points.yaml
-// moved by Gaussian noise of PX pixels per axis, as a user clicks; --calibration-frame
+// pixels inside their outlines where the frame shows them, as a user draws them; --click-noise PX:
+// field_points.yaml moved by Gaussian noise of PX pixels per axis, as a user clicks; --calibration-frame
 // auto|N: the frame samples.yaml and calibration_frame.png show (default 0; auto: the first
 // frame showing every marker colour (robots, ball) the camera shows in the recording, as a user picks
 // one, else the first showing the most of them; printed as "camera <n>: calibration frame:
@@ -239,11 +239,12 @@ int run(const Options& o) {
       }
       record.stamp = stamp.toSec();
 
+      // Where the frame shows the objects (mid-exposure when blurred): polygons are drawn there,
+      // by calibrate_synthetic and by a user alike.
+      const sv::SceneState shown = sv::extrapolate(scene, sv::shownTimeAfterStamp(scenario.sensor));
       // Colour samples of the calibration frames, as calibrate_synthetic picks them: one
       // frame shows only the robots in view, so a table needs several.
       if (i % calibration_spacing == 0 && i / calibration_spacing < sv::SyntheticCalibration{}.frames) {
-        // Where the frame shows the objects (mid-exposure when blurred), as calibrate_synthetic.
-        const sv::SceneState shown = sv::extrapolate(scene, sv::shownTimeAfterStamp(scenario.sensor));
         const auto samples = sv::calibrationSamples(shown, ch.renderer->camera(), field, patterns);
         sv::writeTextFile(
             dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
@@ -255,7 +256,7 @@ int run(const Options& o) {
         sv::SampleOptions drawn;
         drawn.inset_px = o.sample_inset;
         sv::ColorSamples samples =
-            sv::calibrationSamples(scene, ch.renderer->camera(), field, patterns, drawn);
+            sv::calibrationSamples(shown, ch.renderer->camera(), field, patterns, drawn);
         cv::Mat bgr = rendered.image;
         if (bayer) cv::cvtColor(rendered.image, bgr, sv::bayerToBgrCode(img.encoding));
         const bool automatic = o.calibration_frame == "auto";

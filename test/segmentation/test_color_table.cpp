@@ -305,8 +305,8 @@ TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
 }
 
 TEST(ColorTable, ABallMixedWithTheCarpetKeepsItsColour) {
-  // A ball moving during the exposure mixes with the carpet it rolls on. The ball's samples
-  // also stand for themselves mixed with 10 % of the carpet's colour, so its Gaussian
+  // A ball moving during the exposure mixes with the carpet it rolls on. The ball's orange
+  // is also its samples' Gaussian moved to 10 % and 20 % of the carpet's colour, so it
   // reaches a quarter carpet, where without that it stops at a fifth; the yellow print and
   // the carpet keep their classes.
   ClassSamplePixels samples;
@@ -323,6 +323,7 @@ TEST(ColorTable, ABallMixedWithTheCarpetKeepsItsColour) {
   const ColorTable with = ColorTable::buildFromSamplePixels(samples);
   ColorTableParams off;
   off.ball_carpet_mix = 0;
+  off.ball_carpet_unmix = 0;
   const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
   // 0.75 x (8, 95, 215) + 0.25 x (55, 120, 50)
   EXPECT_EQ(with.classify(20, 101, 174), ColorClass::Orange);
@@ -335,6 +336,62 @@ TEST(ColorTable, ABallMixedWithTheCarpetKeepsItsColour) {
   EXPECT_NE(ColorTable::buildFromSamplePixels(samples).classify(20, 101, 174), ColorClass::Orange);
   off.ball_carpet_mix = 0.6;
   EXPECT_THROW(off.validate(), std::invalid_argument);
+  off.ball_carpet_mix = 0;
+  off.ball_carpet_unmix = 0.6;
+  EXPECT_THROW(off.validate(), std::invalid_argument);
+}
+
+TEST(ColorTable, ABallSampledBlurredStillFindsTheSharpBall) {
+  // A user calibrates on a frame in which the ball was kicked: its streak is 60 % ball and
+  // 40 % carpet. Its orange is also those samples with 10 … 40 % of carpet taken out, so
+  // the ball lying still, (8, 95, 215), is orange; without that it is not. The carpet and
+  // the yellow print keep their classes.
+  const cv::Vec3d ball(8, 95, 215), carpet_bgr(55, 120, 50);
+  ClassSamplePixels samples;
+  for (int i = 0; i < 9; ++i) {
+    const int d = i % 3 - 1;
+    const cv::Vec3d streak = 0.6 * ball + 0.4 * carpet_bgr + cv::Vec3d(d, -d, d);
+    samples[ColorClass::Orange].push_back({cv::Vec3b(streak), static_cast<std::uint8_t>(streak[2])});
+    samples[ColorClass::Yellow].push_back({cv::Vec3b(32 + d, 170 - d, 240), 240});
+  }
+  for (int i = 0; i < 40; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(55 + d, 120 - d, 50 + d), 120});
+  }
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples);
+  ColorTableParams off;
+  off.ball_carpet_unmix = 0;
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
+  EXPECT_EQ(with.classify(8, 95, 215), ColorClass::Orange);
+  EXPECT_NE(without.classify(8, 95, 215), ColorClass::Orange);
+  EXPECT_EQ(with.classify(26, 105, 149), ColorClass::Orange);  // the streak itself
+  EXPECT_EQ(with.classify(32, 170, 240), ColorClass::Yellow);
+  EXPECT_EQ(with.classify(55, 120, 50), ColorClass::Carpet);
+}
+
+TEST(ColorTable, ASharpBallIsNotUnmixedPastItsChannels) {
+  // Sharp samples of a saturated ball: taking carpet out of them would push blue below 0 and
+  // red above 255, which no blurred ball can be. They stand for nothing at those levels, so
+  // the table is the one without unmixing.
+  ClassSamplePixels samples;
+  for (int i = 0; i < 9; ++i) {
+    const int d = i % 3 - 1;
+    samples[ColorClass::Orange].push_back({cv::Vec3b(4 + d, 75 - d, 250), 250});
+    samples[ColorClass::Red].push_back({cv::Vec3b(50 + d, 30 - d, 235 + d), 235});
+  }
+  for (int i = 0; i < 40; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(55 + d, 120 - d, 50 + d), 120});
+  }
+  ColorTableParams off;
+  off.ball_carpet_unmix = 0;
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples);
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
+  int differ = 0;
+  for (int b = 0; b < 256; b += 4)
+    for (int g = 0; g < 256; g += 4)
+      for (int r = 0; r < 256; r += 4) differ += with.classify(b, g, r) != without.classify(b, g, r);
+  EXPECT_EQ(differ, 0);
 }
 
 TEST(ColorTable, ThresholdsCutBetweenSamplesAndPerClassOverridesApply) {

@@ -546,8 +546,9 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 // larger working set suffers more). The markers' brightness variants
 // (ColorTableParams::brightness_spread) widen the classes further: the tiles the noise
 // frame's grid hits now hold 94 % of its pixels (54 % without): 35x a normal frame on a
-// quiet machine, 48x with an evaluation running beside it. So the time bound is loose and
-// the pixel count, which does not depend on the machine, is the tight one.
+// quiet machine, 48x with an evaluation running beside it; the ball's carpet mixture levels
+// (ColorTableParams::ball_carpet_mix, ball_carpet_unmix) 96.0 %. So the time bound is loose
+// and the pixel count, which does not depend on the machine, is the tight one.
 TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   ScenarioConfig scenario;
   const FieldGeometry field;
@@ -575,7 +576,7 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
       noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
   EXPECT_EQ(regions.size(), 0u);
   EXPECT_LE(noise_ms, 80 * normal_ms);
-  EXPECT_LE(noise_stats.classified_pixels, noise.total() * 96 / 100);
+  EXPECT_LE(noise_stats.classified_pixels, noise.total() * 97 / 100);
 }
 
 TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProjectedCentre) {

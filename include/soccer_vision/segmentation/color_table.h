@@ -105,12 +105,17 @@ struct ColorTableParams {
   // prints differ, and a small marker's blur with the black robot top dims it without
   // changing its hue. 0 = off. docs/segmentation.md: 0.2 by measurement on tuning seeds.
   double brightness_spread = 0.2;
-  // With generalisation and carpet samples: each valid sample of the ball's orange also
-  // stands for itself mixed with this share of the carpet's mean colour. The ball's rim,
-  // and the whole ball while it moves during the exposure, mix with the carpet it rolls
-  // on. 0 = off. docs/segmentation.md: more than 0.1 took a yellow print's cells under a
-  // warm lamp on a tuning seed.
-  double ball_carpet_mix = 0.1;
+  // With generalisation and carpet samples, the ball's mixtures with the carpet: its rim,
+  // and the whole ball while it moves during the exposure, mix with the carpet it rolls on.
+  // The ball's orange is also a Gaussian at each level of the valid samples mixed with
+  // 0.1, 0.2, … up to this share of the carpet's mean colour (a sharp ball's samples, a
+  // blurred ball), and at each level with 0.1, 0.2, … up to `ball_carpet_unmix` of carpet
+  // taken out of them (a blurred ball's samples, a sharp ball; not past a channel's 0 or
+  // 255): with the sharp samples' spread, so the class is a tube along the mixture line.
+  // 0 = off. docs/segmentation.md: 0.2 and 0.4 by measurement on tuning seeds; a mixture of
+  // more than 0.2 is a yellow print's colour under a warm lamp.
+  double ball_carpet_mix = 0.2;
+  double ball_carpet_unmix = 0.4;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
   // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
