@@ -283,8 +283,14 @@ async function solvePose() {
     ui.solved = await api(`/api/cameras/${ui.camera}/pose/solve`, { points: ui.points });
     drawField();
     const t = ui.solved.translation;
-    message("field-message", `RMS ${ui.solved.rms_px.toFixed(2)} px (max ${ui.solved.max_px.toFixed(2)} px); ` +
-      `camera at (${t.map((v) => v.toFixed(3)).join(", ")}) m. Green: the field model through this pose.`, ui.solved.rms_px <= 2);
+    const lines = ui.solved.lines;
+    const refined = lines.refined
+      ? `refined on ${lines.pixels} field-line pixels (across-line RMS ${lines.rms_px.toFixed(2)} px, ` +
+        `camera moved ${lines.moved_mm.toFixed(0)} mm)` + (lines.advice ? `: ${lines.advice}` : "")
+      : `the clicks alone (field lines: ${lines.reason})`;
+    message("field-message", `clicks RMS ${ui.solved.rms_px.toFixed(2)} px (max ${ui.solved.max_px.toFixed(2)} px); ` +
+      `${refined}; camera at (${t.map((v) => v.toFixed(3)).join(", ")}) m. Green: the field model through this pose.`,
+      ui.solved.rms_px <= 2);
   } catch (e) {
     message("field-message", "solve: " + e.message, false);
   }

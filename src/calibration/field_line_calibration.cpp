@@ -395,4 +395,21 @@ std::string fieldLineFitAdvice(const FieldLineFit& fit, bool intrinsics_estimate
   return "";
 }
 
+LineRefinement refinePoseOnFieldLines(const cv::Mat& bgr, const FieldGeometry& field,
+                                      const CameraModel& start, double max_rms_px) {
+  LineRefinement r;
+  try {
+    FieldLineFit fit = fitCameraToFieldLines(detectFieldLinePixels(bgr), field, start);
+    if (fit.rms_px > max_rms_px) {
+      r.reason = fieldLineFitAdvice(fit, false, max_rms_px);
+      return r;
+    }
+    r.advice = fieldLineFitAdvice(fit, false, max_rms_px);
+    r.fit = std::move(fit);
+  } catch (const std::invalid_argument& e) {
+    r.reason = e.what();
+  }
+  return r;
+}
+
 }  // namespace soccer_vision

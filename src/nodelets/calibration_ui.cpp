@@ -35,6 +35,7 @@
 #include "soccer_vision/Calibrate.h"
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
+#include "soccer_vision/calibration/field_line_calibration.h"
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/common/robot_pattern.h"
@@ -103,7 +104,9 @@ class CalibrationUiNodelet : public nodelet::Nodelet, public CalibrationUiBacken
     sensor_msgs::ImageConstPtr classification;
     sensor_msgs::ImageConstPtr frozen;
     BlobArrayConstPtr frozen_blobs;
+    // The clicked solution, its pose refined on the frozen frame's lines where they confirm it.
     std::optional<CameraPoseSolution> solved;
+    std::optional<FieldLineFit> refined;  // that refinement
     JpegThrottle live, classification_jpeg;
     std::uint64_t frames = 0;
   };
@@ -412,6 +415,7 @@ nlohmann::json CalibrationUiNodelet::freeze(int id) {
     }
   }
   c.solved.reset();
+  c.refined.reset();
   return {
       {"stamp", c.frozen->header.stamp.toSec()}, {"width", c.frozen->width}, {"height", c.frozen->height}};
 }
@@ -468,15 +472,37 @@ nlohmann::json CalibrationUiNodelet::solvePose(int id, const nlohmann::json& bod
   } catch (const std::exception& e) {
     throw UiRequestError(400, std::string("cannot solve the pose: ") + e.what());
   }
+  // The clicks start a fit to the frozen frame's field lines (as calibrate_field --image
+  // --points); where the lines confirm it, its pose is the one drawn and saved.
+  LineRefinement refinement;
+  try {
+    refinement =
+        refinePoseOnFieldLines(cv_bridge::toCvShare(frozen, "bgr8")->image, field_, solution.model());
+  } catch (const cv_bridge::Exception& e) {
+    refinement.reason = std::string("the frozen frame cannot be read as BGR: ") + e.what();
+  }
+  nlohmann::json lines = {{"refined", refinement.fit.has_value()}};
+  if (refinement.fit) {
+    const Eigen::Vector3d moved = refinement.fit->camera.cameraCentre() - solution.model().cameraCentre();
+    solution.field_T_camera = refinement.fit->camera.fieldTCamera();
+    lines["rms_px"] = refinement.fit->rms_px;
+    lines["pixels"] = refinement.fit->pixels_paired;
+    lines["moved_mm"] = 1000 * moved.norm();
+    lines["advice"] = refinement.advice;
+  } else {
+    lines["reason"] = refinement.reason;
+  }
   {
     std::lock_guard<std::mutex> lock(c.mutex);
     c.solved = solution;
+    c.refined = refinement.fit;
   }
   const Eigen::Vector3d t = solution.field_T_camera.translation();
   const Eigen::Quaterniond q(solution.field_T_camera.rotation());
   return {{"rms_px", solution.rms_px},
           {"max_px", solution.max_px},
           {"errors_px", solution.errors_px},
+          {"lines", lines},
           {"translation", {t.x(), t.y(), t.z()}},
           {"rotation", {q.x(), q.y(), q.z(), q.w()}},
           {"field_lines", toJson(projectFieldMarkings(solution.model(), field_))}};
@@ -485,17 +511,21 @@ nlohmann::json CalibrationUiNodelet::solvePose(int id, const nlohmann::json& bod
 nlohmann::json CalibrationUiNodelet::savePose(int id) {
   Camera& c = camera(id);
   std::optional<CameraPoseSolution> solved;
+  std::optional<FieldLineFit> refined;
   {
     std::lock_guard<std::mutex> lock(c.mutex);
     solved = c.solved;
+    refined = c.refined;
   }
   if (!solved) throw UiRequestError(409, "no solved pose: click at least 4 landmarks and solve first");
   CameraPoseFile file;
   file.camera_id = c.id;
   file.child_frame_id = "camera_" + std::to_string(c.id) + "_optical";
   file.field_T_camera = solved->field_T_camera;
-  file.rms_error_px = solved->rms_px;
-  file.points = static_cast<int>(solved->errors_px.size());
+  // The residual of what fixed the pose: the line pixels' when the lines refined it (as
+  // calibrate_field --image writes), else the clicked points'.
+  file.rms_error_px = refined ? refined->rms_px : solved->rms_px;
+  file.points = refined ? refined->pixels_within_3px : static_cast<int>(solved->errors_px.size());
   file.intrinsics = solved->intrinsics;
   const std::string path = pose_dir_ + "/camera_pose_" + std::to_string(c.id) + ".yaml";
   try {
@@ -503,8 +533,9 @@ nlohmann::json CalibrationUiNodelet::savePose(int id) {
   } catch (const std::exception& e) {
     throw UiRequestError(500, std::string("cannot save the pose: ") + e.what());
   }
-  NODELET_INFO("camera %d pose saved to %s (RMS %.2f px)", c.id, path.c_str(), solved->rms_px);
-  return {{"path", path}, {"rms_px", solved->rms_px}};
+  NODELET_INFO("camera %d pose saved to %s (RMS %.2f px%s)", c.id, path.c_str(), file.rms_error_px,
+               refined ? ", field lines" : ", points");
+  return {{"path", path}, {"rms_px", file.rms_error_px}, {"refined_on_lines", refined.has_value()}};
 }
 
 nlohmann::json CalibrationUiNodelet::info() {

@@ -120,6 +120,11 @@ int run(const Options& o) {
   file.intrinsics = k;
   sv::saveCameraPoseFile(o.out, file);
   std::printf("wrote %s\n", o.out.c_str());
+  // Clicks are off by a fraction of a pixel each, which moves robots by millimetres; the
+  // lines of an image of the field fix the pose to a fraction of that.
+  std::printf(
+      "hint: add --image FIELD.png (a frame of this camera) to polish this pose on the field lines: "
+      "docs/calibration.md\n");
   return 0;
 }
 

@@ -323,8 +323,12 @@ class CalibrationUiInTheBrowser(unittest.TestCase):
         self.assertEqual(self.ui("window.svUi.points.length"), min(6, len(landmarks)))
         self.click("solve")
         solved = wait_for(lambda: self.ui("window.svUi.solved"), 30, "the pose")
-        print("field calibration from %d clicked landmarks: RMS %.2f px" % (len(landmarks[:6]), solved["rms_px"]))
+        print("field calibration from %d clicked landmarks: RMS %.2f px; field lines: %s" % (
+            len(landmarks[:6]), solved["rms_px"], solved["lines"]))
         self.assertLess(solved["rms_px"], 1.5)  # clicks land on CSS pixels: ~0.5 image px each
+        # The simulated field's lines confirm the clicks: the pose is refined on them.
+        self.assertTrue(solved["lines"]["refined"], solved["lines"])
+        self.assertLess(solved["lines"]["rms_px"], 0.5, solved["lines"])
         self.click("save-pose")
         pose = wait_for(lambda: self.ui("window.svUi.lastPoseSave"), 20, "the saved pose")
         self.assertTrue(os.path.exists(pose["path"]), pose)

@@ -14,6 +14,7 @@
 // pose and, with estimate_intrinsics, k1 fitted to them) or any guess.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,5 +71,17 @@ CameraModel initialModelFromCorners(const CameraIntrinsics& intrinsics,
 // sentence naming the symptom and the remedy (e.g. "RMS 2.8 px: intrinsics likely off;
 // try --estimate-intrinsics").
 std::string fieldLineFitAdvice(const FieldLineFit& fit, bool intrinsics_estimated, double max_rms_px);
+
+// A pose from clicked points refined on the field lines of one image, the intrinsics kept:
+// what evaluate and the calibration UI do after the clicks (calibrate_field --image --points
+// with its own checks). `fit` when the lines confirm it (across-line RMS <= max_rms_px);
+// else `reason` says why the clicked pose stays. `advice`: fieldLineFitAdvice's warning for
+// an accepted fit, if any. `bgr`: CV_8UC3, the image the lines are detected on.
+struct LineRefinement {
+  std::optional<FieldLineFit> fit;
+  std::string reason, advice;
+};
+LineRefinement refinePoseOnFieldLines(const cv::Mat& bgr, const FieldGeometry& field,
+                                      const CameraModel& start, double max_rms_px = 1.0);
 
 }  // namespace soccer_vision

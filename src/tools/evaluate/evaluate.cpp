@@ -7,7 +7,8 @@
 //   rosrun soccer_vision evaluate --bag FILE [--truth truth.jsonl]
 //       [--colors T.svct[,T1.svct] | --samples S.yaml[,S1.yaml]
 //        [--calibration-image P.png[,P1.png] | --calibration-frame N]]
-//       [--field-points F.yaml[,F1.yaml] | --camera-pose C.yaml[,C1.yaml]] [--patterns NAME|FILE]
+//       [--field-points F.yaml[,F1.yaml] [--pose-from lines|points] | --camera-pose C.yaml[,C1.yaml]]
+//       [--patterns NAME|FILE] [--field div_b|div_a|FILE]
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]
 //       [--measurement-offset S[,S1]]
 //       [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]
@@ -26,7 +27,9 @@
 // field_points[_camera_<n>].yaml. Without --calibration-image the samples are taken from
 // the bag's frames themselves (for a Bayer camera: their quad colours, what the
 // classifier reads). Colour tables are built with calibrate_colors' code
-// (calibrateColorTable), camera poses with calibrate_field's (solveCameraPose).
+// (calibrateColorTable), camera poses with calibrate_field's (solveCameraPose, then by
+// default refined on the field lines of the bag's first frame as calibrate_field --image
+// --points does: fitCameraToFieldLines; --pose-from points: the points alone).
 //
 // Reports (printed; --json as one object): the measured rate (visible robots measured by
 // their own frame's detections, the others by cause: measured_rate.h), robot/ball/all
@@ -57,12 +60,15 @@
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sys/stat.h>
 
 #include "evaluate_report.h"
 #include "evaluation_plots.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/calibration/color_calibration.h"
+#include "soccer_vision/calibration/field_line_calibration.h"
+#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/evaluation/evaluation.h"
@@ -80,12 +86,14 @@ using nlohmann::json;
 namespace {
 
 struct Options {
-  std::string bag, truth, results, misses, json, plots, markdown, title, patterns = "two_tag";
+  std::string bag, truth, results, misses, json, plots, markdown, title, patterns = "two_tag",
+                                                                         field = "div_b";
   std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
   std::vector<double> measurement_offsets;  // [s]
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
-  int calibration_frame = 0;  // the bag frame --samples / samples.yaml are on
+  int calibration_frame = 0;        // the bag frame --samples / samples.yaml are on
+  std::string pose_from = "lines";  // with field points: "points" alone, or refined on the "lines"
   bool windows = true, table2 = true, sweep = false, results_only = false, online_calibration = false;
 };
 
@@ -106,6 +114,7 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--title", o.title, "title of the Markdown section (default: the bag's path)");
   app.add_option("--patterns", o.patterns, "marker patterns: two_tag, ssl, team_only or a pattern file")
       ->capture_default_str();
+  app.add_option("--field", o.field, "field geometry: div_b, div_a or a field YAML")->capture_default_str();
   app.add_option("--colors", o.colors, "colour table per camera (.svct), comma-separated")->delimiter(',');
   app.add_option("--samples", o.samples, "calibrate from colour samples per camera instead, comma-separated")
       ->delimiter(',');
@@ -117,6 +126,11 @@ void addOptions(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--field-points", o.field_points, "field points per camera to solve its pose from")
       ->delimiter(',');
+  app.add_option("--pose-from", o.pose_from,
+                 "with field points: their pose refined on the field lines of the bag's first frame (lines, "
+                 "as calibrate_field --image --points) or the points alone (points)")
+      ->check(CLI::IsMember(std::vector<std::string>{"lines", "points"}))
+      ->capture_default_str();
   app.add_option("--camera-pose", o.camera_poses, "camera pose file per camera instead")->delimiter(',');
   app.add_option("--measurement-offset", o.measurement_offsets,
                  "[s] per camera: where in its exposure a frame shows the objects")
@@ -261,8 +275,13 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
       std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
 }
 
-// Intrinsics from the bag's camera_info, the pose given or solved like calibrate_field.
-sv::CameraModel cameraModel(const Options& o, const sv::BagCamera& camera, std::size_t index) {
+// The bag's image as BGR at full resolution (a Bayer image demosaiced), as a camera shows it.
+cv::Mat fullBgr(const sv::BagFrames::Image& image);
+
+// Intrinsics from the bag's camera_info, the pose given or solved like calibrate_field: from
+// the field points, refined on the field lines of `first` unless --pose-from points.
+sv::CameraModel cameraModel(const Options& o, const sv::BagCamera& camera, std::size_t index,
+                            const sv::BagFrames::Image& first, const sv::FieldGeometry& field) {
   if (!camera.has_info) throw std::invalid_argument(camera.ns + ": no camera_info in the bag");
   const sv::CameraIntrinsics intrinsics = sv::intrinsicsFromCameraInfo(camera.info);
   if (!o.camera_poses.empty()) {
@@ -281,7 +300,23 @@ sv::CameraModel cameraModel(const Options& o, const sv::BagCamera& camera, std::
   const sv::CameraPoseSolution pose = sv::solveCameraPose(intrinsics, sv::loadFieldCorrespondences(points));
   std::printf("camera %d: pose solved from %s, reprojection RMS %.3f px (max %.3f px)\n", camera.id,
               points.c_str(), pose.rms_px, pose.max_px);
-  return pose.model();
+  if (o.pose_from == "points") return pose.model();
+  // As calibrate_field --image --points: the clicks start the fit to the line pixels. A
+  // fit calibrate_field would refuse (its --max-rms default, 1 px) leaves the clicked pose.
+  const sv::LineRefinement refined = sv::refinePoseOnFieldLines(fullBgr(first), field, pose.model());
+  if (!refined.fit) {
+    std::printf("camera %d: pose from the points alone: the field lines' fit: %s\n", camera.id,
+                refined.reason.c_str());
+    return pose.model();
+  }
+  const sv::FieldLineFit& fit = *refined.fit;
+  const Eigen::Vector3d moved = fit.camera.cameraCentre() - pose.model().cameraCentre();
+  std::printf(
+      "camera %d: pose refined on the field lines of frame 0: %d line pixels, across-line RMS %.3f px, "
+      "camera centre moved %.1f mm%s%s\n",
+      camera.id, fit.pixels_paired, fit.rms_px, 1000 * moved.norm(), refined.advice.empty() ? "" : "; ",
+      refined.advice.c_str());
+  return fit.camera;
 }
 
 const char* encodingName(sv::PixelLayout layout) {
@@ -300,6 +335,16 @@ const char* encodingName(sv::PixelLayout layout) {
       return "bayer_grbg8";
   }
   return "?";
+}
+
+cv::Mat fullBgr(const sv::BagFrames::Image& image) {
+  if (image.layout == sv::PixelLayout::Bgr) return image.pixels;
+  cv::Mat bgr;
+  if (image.layout == sv::PixelLayout::Rgb)
+    cv::cvtColor(image.pixels, bgr, cv::COLOR_RGB2BGR);
+  else
+    cv::cvtColor(image.pixels, bgr, sv::bayerToBgrCode(encodingName(image.layout)));
+  return bgr;
 }
 
 // --- Runs --------------------------------------------------------------------
@@ -571,7 +616,7 @@ int resultsOnly(const Options& o) {
   report["results"] = o.results;
   sv::printScore(report);
   if (!o.json.empty()) writeJson(o.json, report);
-  if (!o.plots.empty()) writePlots(o.plots, e, nullptr, {}, sv::FieldGeometry{});
+  if (!o.plots.empty()) writePlots(o.plots, e, nullptr, {}, sv::fieldGeometryByName(o.field));
   return 0;
 }
 
@@ -580,6 +625,7 @@ int evaluateBag(const Options& o) {
   Setup setup;
   setup.bag = &bag;
   setup.patterns = sv::patternSetByName(o.patterns);
+  setup.field = sv::fieldGeometryByName(o.field);
   std::vector<const sv::BagCamera*> cameras;
   for (const sv::BagCamera& c : bag.cameras()) {
     if (o.cameras.empty() || std::find(o.cameras.begin(), o.cameras.end(), c.id) != o.cameras.end())
@@ -591,7 +637,6 @@ int evaluateBag(const Options& o) {
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     sv::PipelineCamera pc;
     pc.id = cameras[i]->id;
-    pc.model = cameraModel(o, *cameras[i], i);
     // The first frame (its layout) and the calibration frames, in one pass over the bag.
     const std::map<std::size_t, std::string> samples = samplesByFrame(o, i, pc.id);
     std::set<std::size_t> wanted{0};
@@ -604,6 +649,7 @@ int evaluateBag(const Options& o) {
                                   "'s first image cannot be read");
     }
     pc.layout = frames.at(0).layout;
+    pc.model = cameraModel(o, *cameras[i], i, frames.at(0), setup.field);
     pc.segmentation = colorModel(o, samples, frames, i, pc.id);
     setup.cameras.push_back(std::move(pc));
   }
