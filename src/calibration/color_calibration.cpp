@@ -79,7 +79,7 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
       }
     }
-    if (!background_model) continue;
+    if (!background_model || !image.unsampled_is_background) continue;
     cv::dilate(
         near_markers, near_markers,
         cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kMarkerMargin + 1, 2 * kMarkerMargin + 1)));

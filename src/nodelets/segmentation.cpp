@@ -201,6 +201,16 @@ class SegmentationNodelet : public nodelet::Nodelet {
   OnlineCalibrationParams online_params_;
   std::string color_table_path_;
 
+  // The frames ~calibrate built the current table from, since the last replace or table
+  // file: a merge calibrates on them and its own frame together.
+  struct CalibratedFrame {
+    ros::Time stamp;
+    CalibrationImage image;
+  };
+  static constexpr std::size_t kMaxCalibratedFrames = 8;
+  std::mutex calibrated_mutex_;
+  std::vector<CalibratedFrame> calibrated_frames_;
+
   // Latest received frame (for ~calibrate) and latest search windows.
   std::mutex input_mutex_;
   sensor_msgs::ImageConstPtr last_image_;
@@ -386,6 +396,10 @@ void SegmentationNodelet::loaderLoop() {
       // Costly (fills the lookup tables): built here, outside every lock, then swapped.
       std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
       setModel(std::move(m), "file " + path);
+      {
+        std::lock_guard<std::mutex> calibrated(calibrated_mutex_);
+        calibrated_frames_.clear();
+      }
       last_load_failed_ = false;
       NODELET_INFO("colour table loaded from %s%s", path.c_str(),
                    table->illuminationReference().empty() ? " (no illumination reference)" : "");
@@ -709,11 +723,32 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     params.threshold_lab = threshold_lab;
     params.threshold_h = threshold_h;
     params.validate();
-    // Table + illumination reference of this frame, then the lookup: outside every lock.
-    ColorTable fresh = calibrateColorTable({CalibrationImage{bgr, samples}}, params);
+    // A merge calibrates on the frames of the earlier calls too (this frame's earlier strokes
+    // replaced), so colours added on a second frame share the Bayes decisions with the
+    // first's; the unsampled markers of such an added frame are not background. Over a table
+    // from a file, the classes without polygons keep their cells instead.
     const std::shared_ptr<const SegmentationModel> current = model();
     const bool merged = !req.replace && current;
-    if (merged) fresh = keepUnsampledClasses(fresh, current->classifier->table(), samples);
+    std::vector<CalibratedFrame> frames;
+    std::optional<bool> background;  // this frame's, when it was calibrated on before
+    if (merged) {
+      std::lock_guard<std::mutex> lock(calibrated_mutex_);
+      for (const CalibratedFrame& f : calibrated_frames_) {
+        if (f.stamp == image->header.stamp)
+          background = f.image.unsampled_is_background;
+        else
+          frames.push_back(f);
+      }
+    }
+    const bool joint = !frames.empty();
+    if (frames.size() >= kMaxCalibratedFrames) frames.erase(frames.begin());
+    frames.push_back(
+        {image->header.stamp, CalibrationImage{bgr.clone(), samples, background.value_or(!joint)}});
+    std::vector<CalibrationImage> images;
+    for (const CalibratedFrame& f : frames) images.push_back(f.image);
+    // Table + illumination reference of these frames, then the lookup: outside every lock.
+    ColorTable fresh = calibrateColorTable(images, params);
+    if (merged && !joint) fresh = keepUnsampledClasses(fresh, current->classifier->table(), samples);
     auto table = std::make_shared<const ColorTable>(std::move(fresh));
     // Swapped in only when every sampled class kept cells: a table that lost one would
     // silently stop seeing that colour.
@@ -726,12 +761,18 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     }
     std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
     std::string source = "~calibrate on frame " + std::to_string(image->header.stamp.toSec()) +
-                         (merged ? " (unsampled classes kept)" : "");
+                         (joint    ? " and " + std::to_string(frames.size() - 1) + " earlier frame(s)"
+                          : merged ? " (unsampled classes kept)"
+                                   : "");
     if (req.save) {
       table->save(save_path);  // throws: the previous table stays
       source += ", saved to " + save_path;
     }
     setModel(std::move(m), source);
+    {
+      std::lock_guard<std::mutex> lock(calibrated_mutex_);
+      calibrated_frames_ = std::move(frames);
+    }
     last_load_failed_ = false;  // a failed color_table file is not retried over this table
     res.success = true;
     res.message = summarizeTable(*table);

@@ -17,8 +17,10 @@
 // field_points.yaml moved by Gaussian noise of PX pixels per axis, as a user clicks; --calibration-frame
 // auto|N: the frame samples.yaml and calibration_frame.png show (default 0; auto: the first
 // frame showing every marker colour (robots, ball) the camera shows in the recording, as a user picks
-// one, else the first showing the most of them; printed as "camera <n>: calibration frame:
-// <i>"). The held-out protocol of docs/evaluation.md.
+// one, else the first showing the most of them, and the colours it lacks sampled on the
+// first frames showing them, as a user samples them on a second frame, in more_samples_<k>.yaml;
+// printed as "camera <n>: calibration frame: <i>" and "camera <n>: more samples: frame <j>
+// (<colours>) in <file>"). The held-out protocol of docs/evaluation.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -113,6 +115,33 @@ std::size_t colorsShown(const sv::ColorSamples& samples, const std::set<sv::Colo
   });
 }
 
+// Where no frame shows every colour, the frames a user samples the missing ones on (the
+// calibration UI's second frame): again and again the first frame showing the most of the
+// colours still missing, with its polygons of those and of the carpet (a ball's mixture
+// with the carpet is modelled on its own frame's carpet).
+std::vector<std::pair<int, sv::ColorSamples>> moreSamples(const std::map<int, sv::ColorSamples>& drawn,
+                                                          std::set<sv::ColorClass> missing) {
+  std::vector<std::pair<int, sv::ColorSamples>> more;
+  while (!missing.empty()) {
+    int best = -1;
+    std::size_t best_shown = 0;
+    for (const auto& [frame, samples] : drawn) {
+      const std::size_t shown = colorsShown(samples, missing);
+      if (shown > best_shown) best_shown = shown, best = frame;
+    }
+    if (best < 0) break;  // the rest is never shown whole
+    const sv::ColorSamples& samples = drawn.at(best);
+    sv::ColorSamples picked;
+    for (const auto& [color, polygons] : samples) {
+      if ((missing.count(color) || color == sv::ColorClass::Carpet) && !polygons.empty())
+        picked[color] = polygons;
+    }
+    for (const auto& entry : picked) missing.erase(entry.first);
+    more.emplace_back(best, std::move(picked));
+  }
+  return more;
+}
+
 std::string directoryOf(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? "." : path.substr(0, slash);
@@ -139,6 +168,7 @@ struct CameraChannel {
   int best_frame = -1;
   sv::ColorSamples best_samples;
   cv::Mat best_bgr;
+  std::map<int, sv::ColorSamples> drawn;  // every frame's, until the calibration frame is chosen
 };
 
 int run(const Options& o) {
@@ -169,6 +199,7 @@ int run(const Options& o) {
                         {},
                         0,
                         -1,
+                        {},
                         {},
                         {}});
   }
@@ -262,6 +293,7 @@ int run(const Options& o) {
         const bool automatic = o.calibration_frame == "auto";
         if (automatic) {
           const std::size_t shown = colorsShown(samples, ch.colors_in_view);
+          ch.drawn[i] = samples;
           if (ch.best_frame < 0 || shown > ch.best_shown) {
             ch.best_shown = shown;
             ch.best_frame = i;
@@ -286,6 +318,24 @@ int run(const Options& o) {
             std::printf(" (shows %zu of the %zu marker colours in view)", ch.best_shown,
                         ch.colors_in_view.size());
           std::printf("\n");
+          if (automatic && !all_shown) {
+            std::set<sv::ColorClass> missing;
+            for (const sv::ColorClass c : ch.colors_in_view) {
+              if (!colorsShown(samples, {c})) missing.insert(c);
+            }
+            int k = 0;
+            for (const auto& [frame, more] : moreSamples(ch.drawn, missing)) {
+              const auto files =
+                  cameraFileNames(dir, "more_samples_" + std::to_string(++k), ".yaml", ch.id, first);
+              for (const auto& f : files) sv::writeTextFile(f, sv::toYaml(more));
+              std::string colours;
+              for (const auto& entry : more)
+                colours += (colours.empty() ? "" : ", ") + std::string(sv::colorClassName(entry.first));
+              std::printf("camera %d: more samples: frame %d (%s) in %s\n", ch.id, frame, colours.c_str(),
+                          files.front().c_str());
+            }
+          }
+          ch.drawn.clear();
           ch.calibration_written = true;
           ch.best_samples.clear();
           ch.best_bgr.release();
@@ -323,7 +373,7 @@ int run(const Options& o) {
       patterns.name.c_str(), scenario.blue_robots, scenario.yellow_robots);
   std::printf(
       "and %s/{truth.jsonl, samples.yaml, calibration_frame.png, field_points.yaml, camera_info.yaml, "
-      "first_frame.png, samples_camera_<n>_frame_<i>.yaml}\n",
+      "first_frame.png, samples_camera_<n>_frame_<i>.yaml, more_samples_<k>.yaml where needed}\n",
       dir.c_str());
   return 0;
 }

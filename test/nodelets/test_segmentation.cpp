@@ -473,6 +473,35 @@ TEST_F(SegmentationTest, CalibrateSwapsTable) {
   arrays = collectBlobs(10);
   ASSERT_GE(arrays.size(), 10u) << "blobs continue after failed calibrations";
   for (const auto& a : arrays) EXPECT_EQ(countColor(*a, sv::ColorClass::Yellow), 0);
+
+  // Yellow (and a carpet stroke) alone on a later frame, merged: the calibration UI's second
+  // frame for a colour the first did not show. Calibrated together with the frame before
+  // (the carpet's samples are both frames'), yellow is seen again and blue stays.
+  const auto carpetSamples = [](const std::string& path) {
+    return sv::ColorTable::load(path).statistics().classes[static_cast<int>(sv::ColorClass::Carpet)].samples;
+  };
+  sv::ColorSamples yellow = samples();
+  for (auto it = yellow.begin(); it != yellow.end();) {
+    const bool keep = it->first == sv::ColorClass::Yellow || it->first == sv::ColorClass::Carpet;
+    it = keep ? std::next(it) : yellow.erase(it);
+  }
+  ASSERT_EQ(yellow.size(), 2u) << "yellow and the carpet in view";
+  collectBlobs(3);  // a later frame than the one calibrated on
+  res = calibrate(sv::toYaml(yellow), true, dir_ + "/yellow_added.svct", false);
+  ASSERT_TRUE(res.success) << res.message;
+  EXPECT_GT(carpetSamples(dir_ + "/yellow_added.svct"), carpetSamples(dir_ + "/no_yellow.svct"))
+      << "the merge is calibrated on both frames";
+  arrays = collectBlobs(15);
+  ASSERT_GE(arrays.size(), 15u);
+  int yellow_added = 0, blue_kept = 0;
+  for (const auto& a : arrays) {
+    yellow_added += countColor(*a, sv::ColorClass::Yellow) > 0;
+    blue_kept += countColor(*a, sv::ColorClass::Blue) > 0;
+  }
+  EXPECT_GE(yellow_added, 0.8 * arrays.size()) << "frames with yellow blobs (robots may leave the view)";
+  EXPECT_EQ(blue_kept, static_cast<int>(arrays.size())) << "frames with blue blobs";
+  // Back to the table without yellow, which the next test expects.
+  ASSERT_TRUE(calibrate(sv::toYaml(samples(false)), false, "").success);
 }
 
 // Requests that once crashed or stalled the manager, or wrote anywhere: each refused with

@@ -168,6 +168,48 @@ TEST(MakeScenarioCli, CalibrationFrameAutoShowsEveryColourInView) {
       2);
 }
 
+// Where no frame shows every colour (frame 0 of this game lacks one, no later frame shows
+// them all): the colours the calibration frame lacks are sampled on the first frame showing
+// them, with the carpet, as a user paints them on a second frame (more_samples_<k>.yaml).
+TEST(MakeScenarioCli, ColoursTheCalibrationFrameLacksAreSampledOnAnotherFrame) {
+  const std::string dir = ::testing::TempDir() + "/make_scenario_more_samples";
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cmd = std::string(MAKE_SCENARIO_BIN) + " --preset " + SOCCER_VISION_SOURCE_DIR +
+                          "/config/scenarios/rand_fast.yaml --seed 38 --frames 30 --width 640 --height 512 " +
+                          "--sample-inset 2 --calibration-frame auto --out " + dir + "/s.bag > " + dir +
+                          "/log.txt";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream log(dir + "/log.txt");
+  std::string line;
+  int frame = -1, more_frame = -1;
+  std::size_t shown = 0, in_view = 0;
+  char file[512] = {};
+  while (std::getline(log, line)) {
+    std::sscanf(line.c_str(), "camera 0: calibration frame: %d (shows %zu of the %zu", &frame, &shown,
+                &in_view);
+    std::sscanf(line.c_str(), "camera 0: more samples: frame %d (%*[^)]) in %511s", &more_frame, file);
+  }
+  ASSERT_GE(frame, 0);
+  ASSERT_LT(shown, in_view) << "this game has no frame showing every colour";
+  ASSERT_GT(more_frame, frame);
+  EXPECT_EQ(std::string(file), dir + "/more_samples_1_camera_0.yaml");
+  const auto first = loadColorSamples(dir + "/samples.yaml");
+  const auto more = loadColorSamples(dir + "/more_samples_1.yaml");
+  std::size_t added = 0;
+  for (const auto& [c, polygons] : more) {
+    EXPECT_FALSE(polygons.empty()) << colorClassName(c);
+    if (!isMarkerColor(c)) {
+      EXPECT_EQ(c, ColorClass::Carpet) << "besides the missing colours only the carpet";
+      continue;
+    }
+    EXPECT_FALSE(first.count(c)) << colorClassName(c) << " is in the calibration frame already";
+    ++added;
+  }
+  EXPECT_TRUE(more.count(ColorClass::Carpet));
+  EXPECT_EQ(added, in_view - shown);
+  EXPECT_EQ(loadColorSamples(dir + "/more_samples_1_camera_0.yaml"), more);
+}
+
 TEST(MakeScenarioCli, BadArgumentsFailWithStatus2) {
   const std::string bin = MAKE_SCENARIO_BIN;
   EXPECT_EQ(WEXITSTATUS(std::system((bin + " --frames 3 > /dev/null 2>&1").c_str())), 2);

@@ -18,6 +18,11 @@ namespace soccer_vision {
 struct CalibrationImage {
   cv::Mat bgr;           // CV_8UC3
   ColorSamples samples;  // polygons in this image's pixel coordinates
+  // Whether what no polygon covers is background, for the background model
+  // (ColorTableParams::background_share, off by default): true for a frame sampled whole;
+  // false for one on which only a few colours were added (a second frame for colours the
+  // first does not show), whose unsampled markers are not background.
+  bool unsampled_is_background = true;
 };
 
 // How the table files the samples' V.

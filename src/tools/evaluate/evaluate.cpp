@@ -6,7 +6,7 @@
 //
 //   rosrun soccer_vision evaluate --bag FILE [--truth truth.jsonl]
 //       [--colors T.svct[,T1.svct] | --samples S.yaml[,S1.yaml]
-//        [--calibration-image P.png[,P1.png] | --calibration-frame N]]
+//        [--calibration-image P.png[,P1.png] | --calibration-frame N [--more-samples C:N:F[,...]]]]
 //       [--field-points F.yaml[,F1.yaml] [--pose-from lines|points] | --camera-pose C.yaml[,C1.yaml]]
 //       [--patterns NAME|FILE] [--field div_b|div_a|FILE]
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]
@@ -26,8 +26,10 @@
 // frame --calibration-frame),
 // field_points[_camera_<n>].yaml. Without --calibration-image the samples are taken from
 // the bag's frames themselves (for a Bayer camera: their quad colours, what the
-// classifier reads). Colour tables are built with calibrate_colors' code
-// (calibrateColorTable), camera poses with calibrate_field's (solveCameraPose, then by
+// classifier reads). --more-samples CAMERA:FRAME:FILE: colours the calibration frame does
+// not show, sampled on another frame (make_scenario's more_samples_<k>.yaml), merged as the
+// calibration UI merges a second frame (keepUnsampledClasses). Colour tables are built with
+// calibrate_colors' code (calibrateColorTable), camera poses with calibrate_field's (solveCameraPose, then by
 // default refined on the field lines of the bag's first frame as calibrate_field --image
 // --points does: fitCameraToFieldLines; --pose-from points: the points alone).
 //
@@ -89,6 +91,7 @@ struct Options {
   std::string bag, truth, results, misses, json, plots, markdown, title, patterns = "two_tag",
                                                                          field = "div_b";
   std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
+  std::vector<std::string> more_samples;    // CAMERA:FRAME:FILE
   std::vector<double> measurement_offsets;  // [s]
   std::vector<int> cameras;
   int frame_step = 1, window_side = 200;
@@ -124,6 +127,11 @@ void addOptions(CLI::App& app, Options& o) {
                  "bag frame the samples are on, without --calibration-image (make_scenario prints it)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option(
+         "--more-samples", o.more_samples,
+         "colours the calibration frame does not show, painted on another bag frame and merged as the "
+         "calibration UI's second frame is (keepUnsampledClasses): CAMERA:FRAME:FILE, comma-separated")
+      ->delimiter(',');
   app.add_option("--field-points", o.field_points, "field points per camera to solve its pose from")
       ->delimiter(',');
   app.add_option("--pose-from", o.pose_from,
@@ -163,6 +171,8 @@ std::string combinationProblem(const Options& o) {
     return "--bag FILE is required";
   }
   if (!o.colors.empty() && !o.samples.empty()) return "give --colors or --samples, not both";
+  if (!o.more_samples.empty() && (!o.colors.empty() || !o.calibration_images.empty()))
+    return "--more-samples are on frames of the bag: not with --colors or --calibration-image";
   if (o.results_only && !o.misses.empty()) return "--misses needs a run of the pipeline, not --results-only";
   if (!o.field_points.empty() && !o.camera_poses.empty())
     return "give --field-points or --camera-pose, not both";
@@ -233,11 +243,47 @@ std::map<std::size_t, std::string> samplesByFrame(const Options& o, std::size_t 
   return samples;
 }
 
+// --more-samples of one camera: bag frame -> sample file.
+std::map<std::size_t, std::string> moreSamples(const Options& o, int camera_id) {
+  std::map<std::size_t, std::string> more;
+  for (const std::string& entry : o.more_samples) {
+    const auto first = entry.find(':'), second = entry.find(':', first + 1);
+    const auto number = [&](std::size_t from, std::size_t to) {
+      const std::string text = entry.substr(from, to - from);
+      if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos)
+        throw std::invalid_argument("--more-samples " + entry + ": expected CAMERA:FRAME:FILE");
+      return std::stoul(text);
+    };
+    if (first == std::string::npos || second == std::string::npos || second + 1 >= entry.size())
+      throw std::invalid_argument("--more-samples " + entry + ": expected CAMERA:FRAME:FILE");
+    if (static_cast<int>(number(0, first)) == camera_id)
+      more[number(first + 1, second)] = entry.substr(second + 1);
+  }
+  return more;
+}
+
+// One frame of the bag with the samples drawn on it, in the colours the classifier reads.
+sv::CalibrationImage calibrationFrame(const Options& o,
+                                      const std::map<std::size_t, sv::BagFrames::Image>& frames,
+                                      std::size_t frame, const std::string& file, int camera_id) {
+  sv::CalibrationImage image;
+  image.samples = sv::loadColorSamples(file);
+  const auto found = frames.find(frame);
+  if (found == frames.end()) {
+    throw std::invalid_argument(o.bag + ": camera " + std::to_string(camera_id) + " has no readable frame " +
+                                std::to_string(frame) + " for " + file);
+  }
+  image.bgr = sv::classifiedColors(found->second.pixels, found->second.layout);
+  return image;
+}
+
 // The colour table of one camera: given, or calibrated like calibrate_colors does from
-// samples on frames of the bag (their quad colours for Bayer: what the classifier reads).
+// samples on frames of the bag (their quad colours for Bayer: what the classifier reads),
+// with the colours of --more-samples merged in as the calibration UI merges a second frame.
 std::shared_ptr<const sv::SegmentationModel> colorModel(
     const Options& o, const std::map<std::size_t, std::string>& samples,
-    const std::map<std::size_t, sv::BagFrames::Image>& frames, std::size_t index, int camera_id) {
+    const std::map<std::size_t, std::string>& more, const std::map<std::size_t, sv::BagFrames::Image>& frames,
+    std::size_t index, int camera_id) {
   if (!o.colors.empty()) {
     if (index >= o.colors.size())
       throw std::invalid_argument("--colors has no entry for camera " + std::to_string(camera_id));
@@ -248,8 +294,8 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
   std::string described;
   for (const auto& [frame, file] : samples) {
     sv::CalibrationImage image;
-    image.samples = sv::loadColorSamples(file);
     if (!o.calibration_images.empty()) {
+      image.samples = sv::loadColorSamples(file);
       if (index >= o.calibration_images.size()) {
         throw std::invalid_argument("--calibration-image has no entry for camera " +
                                     std::to_string(camera_id));
@@ -257,12 +303,7 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
       image.bgr = cv::imread(o.calibration_images[index], cv::IMREAD_COLOR);
       if (image.bgr.empty()) throw std::invalid_argument(o.calibration_images[index] + ": cannot read image");
     } else {
-      const auto found = frames.find(frame);
-      if (found == frames.end()) {
-        throw std::invalid_argument(o.bag + ": camera " + std::to_string(camera_id) +
-                                    " has no readable frame " + std::to_string(frame) + " for " + file);
-      }
-      image.bgr = sv::classifiedColors(found->second.pixels, found->second.layout);
+      image = calibrationFrame(o, frames, frame, file, camera_id);
     }
     images.push_back(std::move(image));
     described += (described.empty() ? "" : ", ") + std::to_string(frame);
@@ -271,6 +312,15 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
               o.calibration_images.empty() ? (std::to_string(images.size()) + " frame(s)").c_str()
                                            : o.calibration_images[index].c_str(),
               described.c_str());
+  for (const auto& [frame, file] : more) {
+    images.push_back(calibrationFrame(o, frames, frame, file, camera_id));
+    images.back().unsampled_is_background = false;
+    std::string colours;
+    for (const auto& [color, polygons] : images.back().samples)
+      colours += (colours.empty() ? "" : ", ") + std::string(sv::colorClassName(color));
+    std::printf("camera %d: and %s on frame %zu of the bag (--more-samples)\n", camera_id, colours.c_str(),
+                frame);
+  }
   return sv::SegmentationModel::fromTable(
       std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
 }
@@ -639,10 +689,12 @@ int evaluateBag(const Options& o) {
     pc.id = cameras[i]->id;
     // The first frame (its layout) and the calibration frames, in one pass over the bag.
     const std::map<std::size_t, std::string> samples = samplesByFrame(o, i, pc.id);
+    const std::map<std::size_t, std::string> more = moreSamples(o, pc.id);
     std::set<std::size_t> wanted{0};
     if (o.calibration_images.empty()) {
       for (const auto& entry : samples) wanted.insert(entry.first);
     }
+    for (const auto& entry : more) wanted.insert(entry.first);
     const std::map<std::size_t, sv::BagFrames::Image> frames = bag.images(pc.id, wanted);
     if (!frames.count(0)) {
       throw std::invalid_argument(o.bag + ": camera " + std::to_string(pc.id) +
@@ -650,7 +702,7 @@ int evaluateBag(const Options& o) {
     }
     pc.layout = frames.at(0).layout;
     pc.model = cameraModel(o, *cameras[i], i, frames.at(0), setup.field);
-    pc.segmentation = colorModel(o, samples, frames, i, pc.id);
+    pc.segmentation = colorModel(o, samples, more, frames, i, pc.id);
     setup.cameras.push_back(std::move(pc));
   }
   const sv::TruthTimeline truth(loadTruth(o, &bag));
