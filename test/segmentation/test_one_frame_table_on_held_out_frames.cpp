@@ -5,7 +5,8 @@
 // marker, plus carpet, lines and robot tops); held out: frames of 2 other seeds (other
 // robots in other places) at brightness 0.7, 1.0 and 1.3 of the calibration's.
 // Randomised scenes (config/scenarios/rand_*.yaml, their tuning seeds): calibrated as a user
-// does, polygons 2 px inside each marker on one frame; held out: the same hall (the seed
+// does, polygons 2 px inside each marker on one frame, where it shows them (mid-exposure when
+// blurred, as the label images); held out: the same hall (the seed
 // draws its prints, carpet, white balance and lens) 1 s and 2 s later, the robots
 // elsewhere, at 0.85, 1.0 and 1.15 of the light. Only marker colours the calibration frame shows are counted
 // (a colour it lacks cannot be learnt from it: make_scenario --calibration-frame auto picks a frame).
@@ -135,7 +136,10 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario,
     renderer.render(sim.state(), 0, frame);
     SampleOptions drawn;
     drawn.inset_px = 2;
-    const ColorSamples samples = calibrationSamples(sim.state(), camera, field, patterns, drawn);
+    // Drawn where the frame shows the objects (mid-exposure when blurred), as a user draws them.
+    const double shown = shownTimeAfterStamp(scenario.sensor);
+    const ColorSamples samples =
+        calibrationSamples(extrapolate(sim.state(), shown), camera, field, patterns, drawn);
     for (const auto& [c, polygons] : samples) {
       if (!polygons.empty()) sampled.insert(c);
     }
@@ -157,7 +161,8 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario,
       for (int i = 0; i < steps; ++i) sim.step(1.0 / held.fps);
       RenderedFrame frame;
       renderer.render(sim.state(), second * steps, frame);
-      cv::Mat1b truth = renderer.renderLabels(sim.state());
+      // Where the frame shows the objects: mid-exposure when blurred.
+      cv::Mat1b truth = renderer.renderLabels(extrapolate(sim.state(), shownTimeAfterStamp(held.sensor)));
       for (std::size_t v = 0; v < variants.size(); ++v) {
         cv::Mat1b labels = classifyAll(*models[v], frame.image, layout, SegmentationParams{});
         // A Bayer frame is classified per 2x2 quad: compare on the quad grid.
@@ -217,12 +222,13 @@ TEST(OneFrameTable, MarkerInteriorsOfHeldOutFramesAreClassified) {
 
 // Scenes the system was not developed on. The bar is >= 99.5 % of marker interiors
 // and <= 0.01 % of the background given a marker colour per kind; measured 2026-12-04
-// (docs/segmentation.md): 98.91 % over all kinds (body alone 79.24 %), 91.2 % the lowest
+// (docs/segmentation.md): 99.77 % over all kinds (body alone 80.84 %), 99.30 % the lowest
 // (rand_fast: blur mixes the markers with the robot tops), background 0.35 % (the floor
 // beyond the field, 0.88 % on rand_ssl; rand_people's clothes in team colours are
 // background in the labels: 0.74 %). The markers' brightness variants
 // (ColorTableParams::brightness_spread) and the ball's carpet mixture raised the interiors
-// from 97.62 % and the background from 0.16 %. These bounds keep what is reached.
+// from 97.62 % and the background from 0.16 %; polygons and labels where a blurred frame
+// shows the robots (mid-exposure), rand_fast from 91.3 %. These bounds keep what is reached.
 TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
   Accuracy total[2];
   for (const char* name : {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
@@ -234,10 +240,10 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
         name, 100 * a[0].markers(), 100 * a[1].markers(), static_cast<long>(a[1].interior),
         100 * a[0].falsePositives(), 100 * a[1].falsePositives(), static_cast<long>(a[1].background));
     for (int v = 0; v < 2; ++v) total[v].add(a[v]);
-    EXPECT_GE(a[1].markers(), std::max(a[0].markers(), 0.88)) << name;
+    EXPECT_GE(a[1].markers(), std::max(a[0].markers(), 0.99)) << name;
     EXPECT_LE(a[1].falsePositives(), 1e-2) << name;
   }
-  EXPECT_GE(total[1].markers(), 0.985);
+  EXPECT_GE(total[1].markers(), 0.995);
   EXPECT_LE(total[1].falsePositives(), 4.5e-3);
   std::printf(
       "[ all randomised  ] marker interiors %.3f %% -> %.3f %%, background -> marker %.5f %% -> %.5f %%\n",
@@ -247,8 +253,8 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
 
 // The calibration UI's target: a table from about 3 strokes per class classifies the marker
 // interiors of other frames within 0.5 % of one from the renderer's exact samples (both
-// generalised, both from the same one frame). Measured 2026-12-04 (docs/calibration.md): 98.85 %
-// against 98.91 % over all kinds; within 0.5 % on 7 of the 9 kinds, not on rand_uneven_lamps
+// generalised, both from the same one frame). Measured 2026-12-04 (docs/calibration.md): 99.73 %
+// against 99.77 % over all kinds; within 0.5 % on 7 of the 9 kinds, not on rand_uneven_lamps
 // (-1.4 %: 3 strokes see 3 of the lamps' light levels) and rand_bayer (-2.9 %: 3 of its 102
 // interior quads). The bounds keep what is reached.
 TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
