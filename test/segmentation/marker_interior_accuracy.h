@@ -8,6 +8,7 @@
 #include <set>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "soccer_vision/common/color_class.h"
 
@@ -49,6 +50,23 @@ inline void countMarkerInteriors(const cv::Mat1b& truth, const cv::Mat1b& labels
       }
     }
   }
+}
+
+// The labels as the regions see them: each marker colour's pixels kept where its mask
+// survives an opening with a k x k square (RegionParams::morph_kernel; the closing after it
+// only fills holes in what is kept). k <= 1: as they are.
+inline cv::Mat1b openedMarkers(const cv::Mat1b& labels, int k) {
+  cv::Mat1b out = labels.clone();
+  if (k <= 1) return out;
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
+  for (int c = 0; c < kNumColorClasses; ++c) {
+    if (!isMarkerColor(static_cast<ColorClass>(c))) continue;
+    const cv::Mat1b mask = labels == c;
+    cv::Mat1b opened;
+    cv::morphologyEx(mask, opened, cv::MORPH_OPEN, kernel);
+    out.setTo(static_cast<int>(ColorClass::None), mask & ~opened);
+  }
+  return out;
 }
 
 }  // namespace soccer_vision::test

@@ -35,6 +35,7 @@
 using namespace soccer_vision;
 using soccer_vision::test::Accuracy;
 using soccer_vision::test::countMarkerInteriors;
+using soccer_vision::test::openedMarkers;
 
 namespace {
 
@@ -120,8 +121,10 @@ struct Variant {
 // Per table variant: accuracy on held-out frames of a randomised scene (1 s and 2 s into the
 // run: the robots elsewhere, at light 0.85, 1.0 and 1.15 of the calibration's), calibrated
 // from frame 0 with polygons 2 px inside (or strokes through them).
-std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario,
-                                        const std::vector<Variant>& variants) {
+// `opened`, when given: the same counts on the labels as the regions see them
+// (openedMarkers with the segmentation's opening kernel for the label image's width).
+std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario, const std::vector<Variant>& variants,
+                                        std::vector<Accuracy>* opened = nullptr) {
   const FieldGeometry field;
   const PatternSet patterns = patternSetByName(scenario.pattern);
   const CameraModel camera = scenarioCamera(field, 0, scenario);
@@ -151,6 +154,7 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario,
     }
   }
   std::vector<Accuracy> out(variants.size());
+  if (opened) opened->assign(variants.size(), Accuracy{});
   for (double light : {0.85, 1.0, 1.15}) {
     ScenarioConfig held = scenario;
     held.lighting.brightness = scenario.lighting.brightness * light;
@@ -166,12 +170,12 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario,
       for (std::size_t v = 0; v < variants.size(); ++v) {
         cv::Mat1b labels = classifyAll(*models[v], frame.image, layout, SegmentationParams{});
         // A Bayer frame is classified per 2x2 quad: compare on the quad grid.
-        if (labels.size() != truth.size()) {
-          cv::Mat1b quads;
-          cv::resize(truth, quads, labels.size(), 0, 0, cv::INTER_NEAREST);
-          countMarkerInteriors(quads, labels, out[v], sampled);
-        } else {
-          countMarkerInteriors(truth, labels, out[v], sampled);
+        cv::Mat1b scored = truth;
+        if (labels.size() != truth.size()) cv::resize(truth, scored, labels.size(), 0, 0, cv::INTER_NEAREST);
+        countMarkerInteriors(scored, labels, out[v], sampled);
+        if (opened) {
+          const int kernel = labelParams(RegionParams{}, labels.cols).morph_kernel;
+          countMarkerInteriors(scored, openedMarkers(labels, kernel), (*opened)[v], sampled);
         }
       }
     }
@@ -228,27 +232,41 @@ TEST(OneFrameTable, MarkerInteriorsOfHeldOutFramesAreClassified) {
 // background in the labels: 0.74 %). The markers' brightness variants
 // (ColorTableParams::brightness_spread) and the ball's carpet mixture raised the interiors
 // from 97.62 % and the background from 0.16 %; polygons and labels where a blurred frame
-// shows the robots (mid-exposure), rand_fast from 91.3 %. These bounds keep what is reached.
+// shows the robots (mid-exposure), rand_fast from 91.3 %. After the segmentation's 3x3
+// opening: interiors 99.36 %, background 0 on 6 kinds, 0.00008 % on rand_flicker_jpeg. These
+// bounds keep what is reached.
 TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
-  Accuracy total[2];
+  Accuracy total[2], total_opened;
   for (const char* name : {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
                            "rand_flicker_jpeg", "rand_bayer", "rand_ssl", "rand_wide_angle"}) {
-    const std::vector<Accuracy> a = heldOutRandomised(preset(name), {bodyAlone(), ColorTableParams{}});
+    std::vector<Accuracy> opened;
+    const std::vector<Accuracy> a =
+        heldOutRandomised(preset(name), {bodyAlone(), ColorTableParams{}}, &opened);
     std::printf(
         "[ %-17s ] marker interiors %.3f %% -> %.3f %% of %ld, background -> marker %.5f %% -> %.5f %% of "
-        "%ld\n",
+        "%ld; after the opening: interiors %.3f %%, background -> marker %.5f %%\n",
         name, 100 * a[0].markers(), 100 * a[1].markers(), static_cast<long>(a[1].interior),
-        100 * a[0].falsePositives(), 100 * a[1].falsePositives(), static_cast<long>(a[1].background));
+        100 * a[0].falsePositives(), 100 * a[1].falsePositives(), static_cast<long>(a[1].background),
+        100 * opened[1].markers(), 100 * opened[1].falsePositives());
     for (int v = 0; v < 2; ++v) total[v].add(a[v]);
+    total_opened.add(opened[1]);
     EXPECT_GE(a[1].markers(), std::max(a[0].markers(), 0.99)) << name;
     EXPECT_LE(a[1].falsePositives(), 1e-2) << name;
+    // The 0.01 % as the regions see the labels: the background's marker-coloured
+    // pixels are single noisy carpet pixels, which the opening removes. Not on rand_people
+    // (team-coloured clothes, background in the labels) and rand_bayer (quads: no opening,
+    // regions need a pair of adjacent pixels instead).
+    if (std::string(name) != "rand_people" && std::string(name) != "rand_bayer")
+      EXPECT_LE(opened[1].falsePositives(), 1e-4) << name;
   }
   EXPECT_GE(total[1].markers(), 0.995);
   EXPECT_LE(total[1].falsePositives(), 4.5e-3);
   std::printf(
-      "[ all randomised  ] marker interiors %.3f %% -> %.3f %%, background -> marker %.5f %% -> %.5f %%\n",
+      "[ all randomised  ] marker interiors %.3f %% -> %.3f %%, background -> marker %.5f %% -> %.5f %%; "
+      "after "
+      "the opening: %.3f %%, %.5f %%\n",
       100 * total[0].markers(), 100 * total[1].markers(), 100 * total[0].falsePositives(),
-      100 * total[1].falsePositives());
+      100 * total[1].falsePositives(), 100 * total_opened.markers(), 100 * total_opened.falsePositives());
 }
 
 // The calibration UI's target: a table from about 3 strokes per class classifies the marker
