@@ -170,13 +170,17 @@ void appendCarpetMixVariant(const SamplePixel& sample, const cv::Vec3d& carpet, 
 }
 
 // The mixture levels of the ball's samples (appendCarpetMixVariant): the carpet's share
-// 0.1, 0.2, … up to ball_carpet_mix, and the blurred share 0.1, 0.2, … up to
-// ball_carpet_unmix taken back out (mix −s / (1 − s)).
+// 0.1, 0.2, … below ball_carpet_mix and ball_carpet_mix itself, and the blurred share
+// likewise up to ball_carpet_unmix taken back out (mix −s / (1 − s)).
 std::vector<double> carpetMixtureLevels(const ColorTableParams& params) {
   constexpr double kStep = 0.1;
   std::vector<double> levels;
-  for (double m = kStep; m <= params.ball_carpet_mix + 1e-9; m += kStep) levels.push_back(m);
-  for (double m = kStep; m <= params.ball_carpet_unmix + 1e-9; m += kStep) levels.push_back(-m / (1 - m));
+  // Every kStep below a share, and the share itself.
+  for (double m = kStep; m < params.ball_carpet_mix - 1e-9; m += kStep) levels.push_back(m);
+  if (params.ball_carpet_mix > 0) levels.push_back(params.ball_carpet_mix);
+  for (double m = kStep; m < params.ball_carpet_unmix - 1e-9; m += kStep) levels.push_back(-m / (1 - m));
+  if (params.ball_carpet_unmix > 0)
+    levels.push_back(-params.ball_carpet_unmix / (1 - params.ball_carpet_unmix));
   return levels;
 }
 

@@ -108,13 +108,13 @@ struct ColorTableParams {
   // With generalisation and carpet samples, the ball's mixtures with the carpet: its rim,
   // and the whole ball while it moves during the exposure, mix with the carpet it rolls on.
   // The ball's orange is also a Gaussian at each level of the valid samples mixed with
-  // 0.1, 0.2, … up to this share of the carpet's mean colour (a sharp ball's samples, a
-  // blurred ball), and at each level with 0.1, 0.2, … up to `ball_carpet_unmix` of carpet
+  // 0.1, 0.2, … below this share of the carpet's mean colour and with the share itself (a
+  // sharp ball's samples, a blurred ball), and likewise up to `ball_carpet_unmix` of carpet
   // taken out of them (a blurred ball's samples, a sharp ball; not past a channel's 0 or
   // 255): with the sharp samples' spread, so the class is a tube along the mixture line.
-  // 0 = off. docs/segmentation.md: 0.2 and 0.4 by measurement on tuning seeds; a mixture of
-  // more than 0.2 is a yellow print's colour under a warm lamp.
-  double ball_carpet_mix = 0.2;
+  // 0 = off. docs/segmentation.md: 0.15 and 0.4 by measurement on tuning seeds; a mixture
+  // of 0.18 or more takes a yellow print under a warm lamp (test_online_calibration_in_pipeline).
+  double ball_carpet_mix = 0.15;
   double ball_carpet_unmix = 0.4;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
