@@ -50,6 +50,7 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
   const bool normalized = light == CalibrationLight::Normalized;
 
   ClassSamplePixels pixels;
+  double brightest_light = 1.0;  // over the mean light, in any image (ColorTableParams::clipped_variants)
   std::vector<SamplePixel> background;  // only for the background model, when it is on
   const bool background_model = params.generalize_sigmas > 0 && params.background_share > 0;
   for (const auto& image : images) {
@@ -59,6 +60,11 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         normalized ? reference.gainsFor(blockLightLevels(image.bgr, PixelLayout::Bgr,
                                                          expectedLightLevels(image.bgr, PixelLayout::Bgr)))
                    : BlockOffsets{};
+    if (normalized) {
+      double lowest_gain = 0;
+      cv::minMaxLoc(adjustment.gains, &lowest_gain);
+      brightest_light = std::max(brightest_light, ColorTable::kUnitGain / std::max(lowest_gain, 1.0));
+    }
     // The V the table files a pixel under: as the run-time classification will read it.
     auto filed = [&](int x, int y) {
       const cv::Vec3b c = image.bgr.at<cv::Vec3b>(y, x);
@@ -93,7 +99,7 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
   for (auto it = pixels.begin(); it != pixels.end();)
     it = it->second.empty() ? pixels.erase(it) : std::next(it);
   if (pixels.empty()) throw std::invalid_argument("the sample polygons select no pixel");
-  return ColorTable::buildFromSamplePixels(pixels, params, background)
+  return ColorTable::buildFromSamplePixels(pixels, params, background, brightest_light)
       .withIlluminationReference(reference.reference())
       .withIlluminationLevels(normalized ? reference.referenceLevels() : cv::Mat());
 }

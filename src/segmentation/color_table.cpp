@@ -129,6 +129,31 @@ void appendUnclippedVariants(const SamplePixel& sample, std::vector<Hsv>& hsv, s
   }
 }
 
+// The other way round: a sample the calibration shows unclipped is clipped where the light
+// is brighter (ColorTableParams::clipped_variants). Under a block `gain` times the mean
+// light the sensor sees its normalised colour times the gain, saturated at 255, and
+// normalisation divides V by the gain again: the V of the sample's own light, but the
+// clipped channel stopped growing, so hue and saturation moved. Only at the brightest
+// light, the far end of that path (the Gaussian spans it), and only while one channel
+// clips: two or three clipped are a colour towards white that tells classes apart no
+// more. Variants at every gain, or with any channels clipped, widened the classes of the
+// real 2008 frame (its brightest block 1.9) until four of its five robots were lost.
+void appendClippedVariant(const SamplePixel& sample, double gain, std::vector<Hsv>& hsv,
+                          std::vector<Lab>& lab) {
+  const cv::Vec3b p = normalisedColour(sample);
+  const cv::Vec3b q(cv::saturate_cast<std::uint8_t>(p[0] * gain),
+                    cv::saturate_cast<std::uint8_t>(p[1] * gain),
+                    cv::saturate_cast<std::uint8_t>(p[2] * gain));
+  if ((q[0] == 255) + (q[1] == 255) + (q[2] == 255) != 1 || std::max({p[0], p[1], p[2]}) * gain <= 255.0)
+    return;
+  const int v = static_cast<int>(std::lround(255.0 / gain));
+  Hsv h = bgrToHsv(q[0], q[1], q[2]);
+  h.v = v;
+  hsv.push_back(h);
+  const cv::Vec3b n = scaledToV(q, 255, v);
+  lab.push_back(bgrToLab(n[0], n[1], n[2]));
+}
+
 // A robot marker's sample also stands for the same chromaticity up to `spread` darker and
 // brighter (ColorTableParams::brightness_spread): H and S are kept, V is scaled. Not the
 // ball's orange: its neighbours red and yellow are a few hue cells away, and brightness
@@ -619,7 +644,8 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
 }
 
 ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params,
-                                             const std::vector<SamplePixel>& background) {
+                                             const std::vector<SamplePixel>& background,
+                                             double brightest_light) {
   params.validate();
   ColorTable table;
   table.params_ = params;
@@ -699,6 +725,13 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       for (std::size_t i = 0; i < pixels.size(); ++i) {
         if (centre.valid[i])
           appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, valid, valid_lab);
+      }
+    }
+    if (generalize && params.clipped_variants && brightest_light > 1 && isRobotMarkerColor(color)) {
+      // Into the class's Gaussian, not as a part of its own: such parts outranked
+      // neighbouring classes (JPEG'd markers of another id on held-out seed 9014).
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        if (centre.valid[i]) appendClippedVariant(pixels[i], brightest_light, valid, valid_lab);
       }
     }
     // The ball's samples mixed with the carpet and unmixed from it, level by level.

