@@ -215,6 +215,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   search.windows.side_px = config.window_side;
   search.entry_band_px = config.entry_band;
   search.global_search.period_frames = config.global_search_period;
+  search.sweep = config.global_search_sweep;
   search.search_windows = config.search_windows;
   try {
     validate(search);  // all cameras take the same parameters: check once, then apply
@@ -293,7 +294,7 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
                             static_cast<unsigned long>(tracker_.stats().resets));
       for (auto& c : cameras_) c->planner.restart();
     }
-    camera.planner.observe(report, frame.stamp);
+    camera.planner.observe(report, frame.stamp, msg->global_search);
     if (!report.processed()) return;  // late or invalid frame: nothing new to publish
     out = tracker_.output(frame.stamp);
     withheld_robots_ += out.withheld_robots;

@@ -68,6 +68,7 @@ struct Options {
   bool cold = false;
   int repeat = 1;
   bool ssl = false;
+  bool sweep = true;
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -85,6 +86,9 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_flag("--cold", o.cold, "process frames straight from memory");
   app.add_option("--repeat", o.repeat, "passes, each with a fresh pipeline; per frame the fastest counts")
       ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--sweep", o.sweep,
+                 "the periodic global search as a sweep of stripes (false: the whole frame every 30 frames)")
       ->capture_default_str();
   app.add_flag("--ssl", o.ssl,
                "also build each frame's SSL detection and tracked packets and send them to 127.0.0.1");
@@ -197,7 +201,9 @@ int main(int argc, char** argv) {
     std::size_t windowed = 0, robots = 0;
     cv::Mat delivered;
     for (int pass = 0; pass < o.repeat; ++pass) {
-      sv::VisionPipeline pipeline(cameras, patterns, field);
+      sv::VisionPipelineParams params;
+      params.search.sweep = o.sweep;
+      sv::VisionPipeline pipeline(cameras, patterns, field, params);
       sv::ssl::KickedBallEstimator kicks;
       std::vector<double> totals;
       windowed = robots = 0;

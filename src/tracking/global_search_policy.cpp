@@ -43,13 +43,14 @@ void GlobalSearchPolicy::restart() {
   frames_since_global_ = 0;
 }
 
-void GlobalSearchPolicy::observe(const TrackerUpdateReport& report) {
+void GlobalSearchPolicy::observe(const TrackerUpdateReport& report, bool searched_whole) {
   missing_.clear();
   if (!report.processed()) return;  // dropped frame: it says nothing about the targets
   if (report.reset()) {
     reset_seen_ = true;
     return;  // the expected tracks belonged to the old time line
   }
+  if (searched_whole) first_ = false;  // the first search was this frame's
   // A target a whole-frame search did not find is not where windows could miss it: the
   // next (windowed) frame looks for it in its grown window, and only a miss there
   // calls for the whole frame again. (Under heavy noise, where a robot is missed now and

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -83,7 +84,7 @@ TEST(SearchPlanner, SearchesWholeWithoutCameraModelOrWindowsAndAfterAReset) {
   EXPECT_TRUE(blind.rects.empty());
 
   SearchPlannerParams off;
-  off.search_windows = false;
+  off.search_windows = false;  // the sweep is a windowed search's: without windows, whole
   planner.setParams(off);
   const SearchPlan whole = planner.plan(tracker, &camera, stamp);
   EXPECT_TRUE(whole.global_search);
@@ -116,4 +117,69 @@ TEST(SearchPlanner, DroppedFramesDoNotChangeTheInterval) {
   planner.observe(tracker.update(robotAt(kT0 + 0.09, 0.0, 0.0)), kT0 + 0.09);
   EXPECT_NEAR(planner.interval(), 0.9 * 0.02 + 0.1 * 0.01, 1e-6);  // averaged, not replaced
   EXPECT_NEAR(before, 0.02, 1e-6);
+}
+
+// The sweep (SearchPlannerParams::sweep): no frame is searched whole for the period, but
+// every windowed frame adds the next of period_frames stripes, grown by the entry band, so
+// that every period_frames frames each row was searched and a robot up to twice the band
+// tall lies whole in a stripe. Without it, the period's frames are searched whole.
+TEST(SearchPlanner, SweepsTheImageInStripesInsteadOfAWholeFrameEveryPeriod) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  const cv::Size image(camera.width(), camera.height());
+  for (const bool sweep : {true, false}) {
+    SearchPlannerParams params;
+    params.sweep = sweep;
+    params.global_search.period_frames = 10;
+    SearchPlanner planner(params);
+    Tracker tracker;
+    std::vector<int> covered(static_cast<std::size_t>(image.height), 0);
+    int whole = 0;
+    for (int k = 0; k < 31; ++k) {
+      const double stamp = kT0 + k / 60.0;
+      planner.observe(tracker.update(robotAt(stamp, -2.0, 0.0)), stamp);
+      const SearchPlan plan = planner.plan(tracker, &camera, stamp);
+      if (k == 0) continue;  // First: whole
+      whole += plan.global_search;
+      if (!sweep || plan.global_search) {
+        EXPECT_TRUE(plan.sweep_stripe.empty());
+        continue;
+      }
+      ASSERT_FALSE(plan.sweep_stripe.empty()) << k;
+      EXPECT_EQ(plan.rects.back(), plan.sweep_stripe);
+      EXPECT_EQ(plan.sweep_stripe.width, image.width);
+      if (k <= 10) {
+        for (int y = plan.sweep_stripe.y; y < plan.sweep_stripe.br().y; ++y)
+          ++covered[static_cast<std::size_t>(y)];
+      }
+    }
+    if (sweep) {
+      EXPECT_EQ(whole, 0);
+      EXPECT_EQ(std::count(covered.begin(), covered.end(), 0), 0);  // 10 frames: every row
+    } else {
+      EXPECT_EQ(whole, 3);  // frames 10, 20 and 30
+    }
+  }
+  // Neighbouring stripes overlap by twice the margin; the last ends at the image's bottom.
+  const cv::Rect a = sweepStripe(image, 3, 10, 48), b = sweepStripe(image, 4, 10, 48);
+  EXPECT_EQ(a.br().y - b.y, 96);
+  EXPECT_EQ(sweepStripe(image, 9, 10, 48).br().y, image.height);
+  EXPECT_EQ(sweepStripe(image, 0, 10, 48).y, 0);
+  EXPECT_TRUE(sweepStripe(image, 0, 0, 48).empty());
+}
+
+// The first frame, which has no plan yet, is searched whole: told so, the planner does not
+// plan a second whole frame for it, but the tracks' windows. Told nothing (a frame searched
+// with windows planned before a reset, say), the next plan is the first search.
+TEST(SearchPlanner, AFirstFrameSearchedWholeIsTheFirstSearch) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  for (const bool searched_whole : {true, false}) {
+    SearchPlanner planner;
+    Tracker tracker;
+    planner.observe(tracker.update(robotAt(kT0, -2.0, 0.0)), kT0, searched_whole);
+    const SearchPlan plan = planner.plan(tracker, &camera, kT0);
+    EXPECT_EQ(plan.global_search, !searched_whole);
+    EXPECT_EQ(plan.reason, searched_whole ? GlobalSearchReason::None : GlobalSearchReason::First);
+  }
 }

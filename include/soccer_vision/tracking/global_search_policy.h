@@ -38,7 +38,9 @@ class GlobalSearchPolicy {
 
   // After the tracker processed this camera's frame (searched with the windows of the
   // last decide()): notes which expected targets it missed and whether time was reset.
-  void observe(const TrackerUpdateReport& report);
+  // `searched_whole`: that frame was searched whole, as one without a plan yet is (the
+  // first): then it was the first search, and the next decide() need not repeat it.
+  void observe(const TrackerUpdateReport& report, bool searched_whole = false);
   // How to search this camera's next frame, given the windows predicted for it and the
   // number of live tracks. Returns None for a windowed search.
   GlobalSearchReason decide(const std::vector<SearchWindow>& next_windows, std::size_t num_tracks);

@@ -27,6 +27,12 @@ struct SearchPlannerParams {
   int entry_band_px = 48;      // bands along the image borders searched with the windows
   SearchWindowParams windows;  // windows.side_px = R
   GlobalSearchParams global_search;
+  // The periodic global search as a sweep: instead of the whole frame every
+  // global_search.period_frames frames, every windowed frame also searches one of
+  // period_frames horizontal stripes in turn, grown by entry_band_px above and below (so
+  // that a robot fits whole into one of two neighbouring stripes): the same coverage,
+  // without the whole frame's latency spike. The other reasons still search whole.
+  bool sweep = true;
 };
 
 void validate(const SearchPlannerParams& p);  // throws std::invalid_argument
@@ -37,20 +43,25 @@ struct SearchPlan {
   GlobalSearchReason reason = GlobalSearchReason::First;
   bool global_search = true;          // searched whole: a reason, or no camera model to project with
   std::vector<SearchWindow> windows;  // the tracks' windows (also when searching whole)
-  std::vector<cv::Rect> rects;        // windows + entry bands; empty for a global search
+  std::vector<cv::Rect> rects;  // windows + entry bands (+ the sweep's stripe); empty for a global search
+  cv::Rect sweep_stripe;        // the stripe of SearchPlannerParams::sweep in rects; empty: none
 };
 
 class SearchPlanner {
  public:
   explicit SearchPlanner(const SearchPlannerParams& params = {});
 
-  // The tracker has processed (or refused) this camera's frame of `stamp`.
-  void observe(const TrackerUpdateReport& report, double stamp);
+  // The tracker has processed (or refused) this camera's frame of `stamp`, which was
+  // searched whole or not (GlobalSearchPolicy::observe).
+  void observe(const TrackerUpdateReport& report, double stamp, bool searched_whole = false);
   // The plan for the camera's next frame. Without a camera model (not known yet) the frame
   // is searched whole.
   SearchPlan plan(const Tracker& tracker, const CameraModel* camera, double stamp);
   // The tracker dropped its tracks (a time jump seen by any camera): next plan is First.
-  void restart() { policy_.restart(); }
+  void restart() {
+    policy_.restart();
+    next_stripe_ = 0;
+  }
 
   // [s] mean interval between processed frames; 1/60 until two frames were seen.
   double interval() const { return interval_ > 0 ? interval_ : 1.0 / 60; }
@@ -62,6 +73,11 @@ class SearchPlanner {
   SearchPlannerParams params_;
   GlobalSearchPolicy policy_;
   double last_stamp_ = 0, interval_ = 0;
+  int next_stripe_ = 0;  // of the sweep
 };
+
+// Stripe `index` of `count` of an image (SearchPlannerParams::sweep): rows [index·h/count,
+// (index+1)·h/count) grown by `margin` rows above and below, clipped to the image.
+cv::Rect sweepStripe(cv::Size image, int index, int count, int margin);
 
 }  // namespace soccer_vision
