@@ -122,8 +122,8 @@ struct ColorTableParams {
   // mean: buildFromSamplePixels' `brightest_light`), clipped: a channel saturated at 255
   // and V normalised back. A marker sampled in a dim corner shows another hue under the
   // brightest lamp (a pink's red clips and it reads bluer, next to purple). Only where
-  // exactly one channel clips. docs/segmentation.md: measured on held-out seeds 9013 and
-  // 9014 and the real 2008 frame. false = off.
+  // exactly one channel clips. docs/segmentation.md: measured on the spent held-out seeds
+  // 9013 and 9014, tuning seed 40 and the real 2008 frame. false = off.
   bool clipped_variants = true;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
