@@ -176,6 +176,15 @@ ColorSamples parseColorSamples(const std::string& yaml_text, const std::string& 
   return samples;
 }
 
+std::string sampledClassNames(const ColorSamples& samples) {
+  std::string names;
+  for (const auto& [color, polygons] : samples) {
+    if (polygons.empty()) continue;
+    names += (names.empty() ? "" : ", ") + std::string(colorClassName(color));
+  }
+  return names;
+}
+
 void checkColorSamples(const ColorSamples& samples) {
   std::size_t polygons = 0, vertices = 0;
   for (const auto& [cls, list] : samples) {

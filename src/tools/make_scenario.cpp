@@ -328,11 +328,8 @@ int run(const Options& o) {
               const auto files =
                   cameraFileNames(dir, "more_samples_" + std::to_string(++k), ".yaml", ch.id, first);
               for (const auto& f : files) sv::writeTextFile(f, sv::toYaml(more));
-              std::string colours;
-              for (const auto& entry : more)
-                colours += (colours.empty() ? "" : ", ") + std::string(sv::colorClassName(entry.first));
-              std::printf("camera %d: more samples: frame %d (%s) in %s\n", ch.id, frame, colours.c_str(),
-                          files.front().c_str());
+              std::printf("camera %d: more samples: frame %d (%s) in %s\n", ch.id, frame,
+                          sv::sampledClassNames(more).c_str(), files.front().c_str());
             }
           }
           ch.drawn.clear();

@@ -102,6 +102,17 @@ std::string errorOf(Parse parse) {
   return "";
 }
 
+// What the tools print of a sample file: the classes with polygons, in class order.
+TEST(ExchangeFormats, SampledClassNamesListTheClassesWithPolygons) {
+  ColorSamples s = parseColorSamples(
+      "pink:\n  - [[612, 400], [620, 400], [620, 408]]\n"
+      "blue:\n  - [[1, 1], [5, 1], [5, 5]]\n",
+      "s.yaml");
+  s[ColorClass::Yellow];  // no polygon: not sampled
+  EXPECT_EQ(sampledClassNames(s), "blue, pink");
+  EXPECT_EQ(sampledClassNames({}), "");
+}
+
 TEST(ExchangeFormats, ColorSamplesWithNanHugeOrDegeneratePolygonsAreRefusedNamingFileAndPolygon) {
   const auto parse = [](const std::string& text) {
     return errorOf([&] { parseColorSamples(text, "s.yaml"); });

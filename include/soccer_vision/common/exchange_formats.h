@@ -62,6 +62,8 @@ void checkColorSamples(const ColorSamples& samples);
 std::string toYaml(const ColorSamples& samples);
 ColorSamples parseColorSamples(const std::string& yaml_text, const std::string& source_name);
 ColorSamples loadColorSamples(const std::string& path);
+// The names of the classes `samples` has polygons for, in class order: "blue, yellow".
+std::string sampledClassNames(const ColorSamples& samples);
 
 struct FieldCorrespondence {
   Eigen::Vector2d pixel;  // raw (distorted) image

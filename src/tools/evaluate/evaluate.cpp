@@ -315,11 +315,8 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
   for (const auto& [frame, file] : more) {
     images.push_back(calibrationFrame(o, frames, frame, file, camera_id));
     images.back().unsampled_is_background = false;
-    std::string colours;
-    for (const auto& [color, polygons] : images.back().samples)
-      colours += (colours.empty() ? "" : ", ") + std::string(sv::colorClassName(color));
-    std::printf("camera %d: and %s on frame %zu of the bag (--more-samples)\n", camera_id, colours.c_str(),
-                frame);
+    std::printf("camera %d: and %s on frame %zu of the bag (--more-samples)\n", camera_id,
+                sv::sampledClassNames(images.back().samples).c_str(), frame);
   }
   return sv::SegmentationModel::fromTable(
       std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
