@@ -1,5 +1,7 @@
 #include "soccer_vision/common/bayer_encoding.h"
 
+#include <stdexcept>
+
 #include <opencv2/imgproc.hpp>
 
 namespace soccer_vision {
@@ -12,6 +14,19 @@ int bayerToBgrCode(const std::string& e) {
   if (e == "bayer_gbrg8" || e == "bayer_gbrg16") return cv::COLOR_BayerGR2BGR;
   if (e == "bayer_grbg8" || e == "bayer_grbg16") return cv::COLOR_BayerGB2BGR;
   return -1;
+}
+
+cv::Mat bgrOfEncoding(const cv::Mat& image, const std::string& encoding) {
+  if (encoding == "bgr8") return image;
+  cv::Mat bgr;
+  if (encoding == "rgb8") {
+    cv::cvtColor(image, bgr, cv::COLOR_RGB2BGR);
+  } else if (const int code = bayerToBgrCode(encoding); code >= 0 && encoding.back() == '8') {
+    cv::cvtColor(image, bgr, code);
+  } else {
+    throw std::invalid_argument("no BGR view of encoding '" + encoding + "' (bgr8, rgb8, bayer_*8)");
+  }
+  return bgr;
 }
 
 }  // namespace soccer_vision

@@ -691,14 +691,8 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     if (!imageMessageIsConsistent(*image, *layout))
       throw std::runtime_error("the request's image is empty, truncated or inconsistent");
     const cv::Mat mat = cv_bridge::toCvShare(image)->image;
-    cv::Mat bgr;  // calibration works on BGR: shared for bgr8, converted (copied) otherwise
-    if (*layout == PixelLayout::Bgr) {
-      bgr = mat;
-    } else if (*layout == PixelLayout::Rgb) {
-      cv::cvtColor(mat, bgr, cv::COLOR_RGB2BGR);
-    } else {
-      cv::cvtColor(mat, bgr, bayerToBgrCode(image->encoding));
-    }
+    // Calibration works on BGR: shared for bgr8, converted (copied) otherwise.
+    const cv::Mat bgr = bgrOfEncoding(mat, image->encoding);
     const ColorSamples samples = parseColorSamples(req.samples_yaml, "samples_yaml");
     if (samples.empty()) throw std::runtime_error("samples_yaml has no class with polygons");
     // Checked before any work: a save path outside the allowed directory is refused at once.

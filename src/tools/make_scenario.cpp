@@ -288,8 +288,7 @@ int run(const Options& o) {
         drawn.inset_px = o.sample_inset;
         sv::ColorSamples samples =
             sv::calibrationSamples(shown, ch.renderer->camera(), field, patterns, drawn);
-        cv::Mat bgr = rendered.image;
-        if (bayer) cv::cvtColor(rendered.image, bgr, sv::bayerToBgrCode(img.encoding));
+        cv::Mat bgr = sv::bgrOfEncoding(rendered.image, img.encoding);
         const bool automatic = o.calibration_frame == "auto";
         if (automatic) {
           const std::size_t shown = colorsShown(samples, ch.colors_in_view);
@@ -341,10 +340,7 @@ int run(const Options& o) {
       if (i == 0) {
         auto points = sv::fieldCorrespondences(ch.renderer->camera(), field);
         if (o.click_noise > 0) sv::addClickNoise(points, o.click_noise, scenario.seed + 31 * ch.id);
-        cv::Mat bgr = rendered.image;
-        if (bayer) {
-          cv::cvtColor(rendered.image, bgr, sv::bayerToBgrCode(img.encoding));
-        }
+        const cv::Mat bgr = sv::bgrOfEncoding(rendered.image, img.encoding);
         for (const auto& f : cameraFileNames(dir, "field_points", ".yaml", ch.id, first))
           sv::writeTextFile(f, sv::toYaml(points));
         for (const auto& f : cameraFileNames(dir, "first_frame", ".png", ch.id, first)) {

@@ -33,6 +33,22 @@ TEST(BayerEncoding, DemosaicsEveryLayoutBackToItsColour) {
   }
 }
 
+// What calibration sees of an image: bgr8 itself (no copy), rgb8 swapped, an 8-bit mosaic
+// demosaiced to its colour; nothing else.
+TEST(BayerEncoding, BgrOfEncodingShowsEveryLayoutAsItsColour) {
+  const cv::Vec3b orange(20, 120, 240);
+  const cv::Mat3b bgr(8, 8, orange);
+  EXPECT_EQ(bgrOfEncoding(bgr, "bgr8").data, bgr.data);
+  cv::Mat3b rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  EXPECT_EQ(cv::Mat3b(bgrOfEncoding(rgb, "rgb8"))(4, 4), orange);
+  for (const std::string pattern : {"rggb", "bggr", "gbrg", "grbg"})
+    EXPECT_EQ(cv::Mat3b(bgrOfEncoding(mosaic(pattern, orange), "bayer_" + pattern + "8"))(4, 4), orange)
+        << pattern;
+  EXPECT_THROW(bgrOfEncoding(cv::Mat1w::zeros(8, 8), "bayer_rggb16"), std::invalid_argument);
+  EXPECT_THROW(bgrOfEncoding(cv::Mat1b::zeros(8, 8), "mono8"), std::invalid_argument);
+}
+
 TEST(BayerEncoding, SixteenBitNamesShareTheCodes) {
   EXPECT_EQ(bayerToBgrCode("bayer_gbrg16"), bayerToBgrCode("bayer_gbrg8"));
 }

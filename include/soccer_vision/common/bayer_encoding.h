@@ -4,10 +4,17 @@
 
 #include <string>
 
+#include <opencv2/core.hpp>
+
 namespace soccer_vision {
 
 // cv::cvtColor code that demosaics a Bayer encoding (8 or 16 bit) to BGR, or -1 when the
 // encoding is not Bayer.
 int bayerToBgrCode(const std::string& encoding);
+
+// An image of a ROS encoding as BGR at full resolution, as a camera shows it (what colour
+// calibration and the field-line fit work on): bgr8 shared, rgb8 swapped, an 8-bit Bayer
+// mosaic demosaiced. Throws std::invalid_argument for any other encoding.
+cv::Mat bgrOfEncoding(const cv::Mat& image, const std::string& encoding);
 
 }  // namespace soccer_vision

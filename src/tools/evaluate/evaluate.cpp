@@ -385,13 +385,7 @@ const char* encodingName(sv::PixelLayout layout) {
 }
 
 cv::Mat fullBgr(const sv::BagFrames::Image& image) {
-  if (image.layout == sv::PixelLayout::Bgr) return image.pixels;
-  cv::Mat bgr;
-  if (image.layout == sv::PixelLayout::Rgb)
-    cv::cvtColor(image.pixels, bgr, cv::COLOR_RGB2BGR);
-  else
-    cv::cvtColor(image.pixels, bgr, sv::bayerToBgrCode(encodingName(image.layout)));
-  return bgr;
+  return sv::bgrOfEncoding(image.pixels, encodingName(image.layout));
 }
 
 // --- Runs --------------------------------------------------------------------
