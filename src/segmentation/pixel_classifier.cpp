@@ -22,6 +22,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "soccer_vision/segmentation/simd_kernels.h"
 
@@ -228,18 +229,32 @@ int valueAt(const LabelRow& row, int x) {
 
 // ---------------------------------------------------------------- layouts
 
+namespace {
+
+// The one map between sensor_msgs encodings and layouts, both ways.
+constexpr std::pair<const char*, PixelLayout> kLayoutEncodings[] = {
+    {"bgr8", PixelLayout::Bgr},
+    {"rgb8", PixelLayout::Rgb},
+    {"bayer_rggb8", PixelLayout::BayerRggb},
+    {"bayer_bggr8", PixelLayout::BayerBggr},
+    {"bayer_gbrg8", PixelLayout::BayerGbrg},
+    {"bayer_grbg8", PixelLayout::BayerGrbg},
+};
+
+}  // namespace
+
 std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding) {
-  static const std::map<std::string, PixelLayout> layouts = {
-      {"bgr8", PixelLayout::Bgr},
-      {"rgb8", PixelLayout::Rgb},
-      {"bayer_rggb8", PixelLayout::BayerRggb},
-      {"bayer_bggr8", PixelLayout::BayerBggr},
-      {"bayer_gbrg8", PixelLayout::BayerGbrg},
-      {"bayer_grbg8", PixelLayout::BayerGrbg},
-  };
-  const auto it = layouts.find(encoding);
-  if (it == layouts.end()) return std::nullopt;
-  return it->second;
+  for (const auto& [name, layout] : kLayoutEncodings) {
+    if (encoding == name) return layout;
+  }
+  return std::nullopt;
+}
+
+const char* encodingForPixelLayout(PixelLayout layout) {
+  for (const auto& [name, l] : kLayoutEncodings) {
+    if (l == layout) return name;
+  }
+  return "?";  // not a PixelLayout value
 }
 
 cv::Size labelSize(cv::Size image_size, PixelLayout layout) {

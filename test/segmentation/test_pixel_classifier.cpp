@@ -217,6 +217,10 @@ TEST(PixelClassifier, EncodingsLayoutsAndClassMasks) {
   EXPECT_EQ(pixelLayoutForEncoding("bayer_bggr8"), PixelLayout::BayerBggr);
   EXPECT_EQ(pixelLayoutForEncoding("bayer_gbrg8"), PixelLayout::BayerGbrg);
   EXPECT_EQ(pixelLayoutForEncoding("bayer_grbg8"), PixelLayout::BayerGrbg);
+  for (const PixelLayout layout : {PixelLayout::Bgr, PixelLayout::Rgb, PixelLayout::BayerRggb,
+                                   PixelLayout::BayerBggr, PixelLayout::BayerGbrg, PixelLayout::BayerGrbg})
+    EXPECT_EQ(pixelLayoutForEncoding(encodingForPixelLayout(layout)), layout);
+  EXPECT_STREQ(encodingForPixelLayout(PixelLayout::BayerGbrg), "bayer_gbrg8");
   for (const char* unsupported : {"mono8", "mono16", "bgr16", "rgb16", "bgra8", "rgba8", "16UC1", "8UC3",
                                   "yuv422", "uyvy", "bayer_rggb16", "BGR8", ""}) {
     EXPECT_EQ(pixelLayoutForEncoding(unsupported), std::nullopt) << unsupported;

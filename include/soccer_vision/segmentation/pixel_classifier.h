@@ -39,6 +39,8 @@ enum class PixelLayout { Bgr, Rgb, BayerRggb, BayerBggr, BayerGbrg, BayerGrbg };
 
 // sensor_msgs encoding name -> layout; nullopt for anything else (mono8, 16-bit, yuv...).
 std::optional<PixelLayout> pixelLayoutForEncoding(const std::string& encoding);
+// Layout -> its sensor_msgs encoding name ("bayer_rggb8"); the inverse of the above.
+const char* encodingForPixelLayout(PixelLayout layout);
 inline bool isBayer(PixelLayout layout) { return layout != PixelLayout::Bgr && layout != PixelLayout::Rgb; }
 // Label image size for an image of `image_size` in this layout.
 cv::Size labelSize(cv::Size image_size, PixelLayout layout);

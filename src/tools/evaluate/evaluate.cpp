@@ -366,26 +366,8 @@ sv::CameraModel cameraModel(const Options& o, const sv::BagCamera& camera, std::
   return fit.camera;
 }
 
-const char* encodingName(sv::PixelLayout layout) {
-  switch (layout) {
-    case sv::PixelLayout::Bgr:
-      return "bgr8";
-    case sv::PixelLayout::Rgb:
-      return "rgb8";
-    case sv::PixelLayout::BayerRggb:
-      return "bayer_rggb8";
-    case sv::PixelLayout::BayerBggr:
-      return "bayer_bggr8";
-    case sv::PixelLayout::BayerGbrg:
-      return "bayer_gbrg8";
-    case sv::PixelLayout::BayerGrbg:
-      return "bayer_grbg8";
-  }
-  return "?";
-}
-
 cv::Mat fullBgr(const sv::BagFrames::Image& image) {
-  return sv::bgrOfEncoding(image.pixels, encodingName(image.layout));
+  return sv::bgrOfEncoding(image.pixels, sv::encodingForPixelLayout(image.layout));
 }
 
 // --- Runs --------------------------------------------------------------------
@@ -757,7 +739,7 @@ int evaluateBag(const Options& o) {
   report["cameras"] = setup.cameras.size();
   report["width"] = setup.cameras.front().model.width();
   report["height"] = setup.cameras.front().model.height();
-  report["encoding"] = encodingName(setup.cameras.front().layout);
+  report["encoding"] = sv::encodingForPixelLayout(setup.cameras.front().layout);
   report["pattern"] = setup.patterns.name;
   report["stages"] = stageJson(main);
   if (setup.truth) sv::printScore(report);
