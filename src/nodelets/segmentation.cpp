@@ -60,6 +60,7 @@ SegmentationParams toSegmentationParams(const SegmentationConfig& c) {
   SegmentationParams p;
   p.illumination_k = c.illumination_k;
   p.sharpen = c.sharpen;
+  p.ball_streaks = c.ball_streaks;
   p.regions.morph_kernel = c.morph_kernel;
   p.regions.min_area = c.min_area;
   p.regions.max_area = std::max(c.max_area, c.min_area);
@@ -117,7 +118,12 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::string saveDirectory(const std::string& color_table_path) const;
   void loaderLoop();
   void requestLoad(const std::string& path);
-  std::vector<cv::Rect> searchWindows(const ros::Time& image_stamp);
+  // The windows of the latest SearchWindows for this camera and stamp (none: whole frame),
+  // and its ball_streak_windows.
+  struct FrameWindows {
+    std::vector<cv::Rect> windows, ball_streak;
+  };
+  FrameWindows searchWindows(const ros::Time& image_stamp);
   void publishDebug(const sensor_msgs::ImageConstPtr& image, const cv::Mat& mat, PixelLayout layout,
                     const SegmentationModel& model);
   void diagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -420,21 +426,25 @@ void SegmentationNodelet::windowsCallback(const SearchWindowsConstPtr& windows) 
   windows_ = windows;
 }
 
-std::vector<cv::Rect> SegmentationNodelet::searchWindows(const ros::Time& image_stamp) {
+SegmentationNodelet::FrameWindows SegmentationNodelet::searchWindows(const ros::Time& image_stamp) {
   SearchWindowsConstPtr w;
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
     w = windows_;
   }
-  std::vector<cv::Rect> rects;
-  if (!w || w->global_search || w->camera_id != camera_id_) return rects;
-  if ((image_stamp - w->header.stamp).toSec() > window_max_age_) return rects;
-  rects.reserve(w->windows.size());
-  for (const auto& roi : w->windows) {
-    const cv::Rect r = fromRegionOfInterest(roi);
-    if (!r.empty()) rects.push_back(r);
-  }
-  return rects;  // empty (no usable window): whole frame
+  FrameWindows out;
+  if (!w || w->camera_id != camera_id_) return out;
+  if ((image_stamp - w->header.stamp).toSec() > window_max_age_) return out;
+  auto append = [](const std::vector<sensor_msgs::RegionOfInterest>& rois, std::vector<cv::Rect>& rects) {
+    rects.reserve(rois.size());
+    for (const auto& roi : rois) {
+      const cv::Rect r = fromRegionOfInterest(roi);
+      if (!r.empty()) rects.push_back(r);
+    }
+  };
+  if (!w->global_search) append(w->windows, out.windows);  // empty (no usable window): whole frame
+  append(w->ball_streak_windows, out.ball_streak);
+  return out;
 }
 
 void SegmentationNodelet::dropFrame(std::uint64_t& counter) {
@@ -505,9 +515,9 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     ++skipped_by_frame_step_;
     return;
   }
-  const std::vector<cv::Rect> windows = searchWindows(image->header.stamp);
+  const FrameWindows windows = searchWindows(image->header.stamp);
   try {
-    segmenter_.process(*m, cv->image, *layout, windows, result_);
+    segmenter_.process(*m, cv->image, *layout, windows.windows, result_, windows.ball_streak);
   } catch (const std::exception& e) {
     NODELET_ERROR_THROTTLE(5.0, "segmentation failed: %s; frame dropped", e.what());
     dropFrame(dropped_error_);

@@ -341,6 +341,7 @@ void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& hea
   msg->camera_id = static_cast<std::uint8_t>(std::clamp(camera.camera_id, 0, 255));
   msg->global_search = plan.global_search;
   for (const cv::Rect& r : plan.rects) msg->windows.push_back(toRegionOfInterest(r));
+  for (const cv::Rect& r : plan.ball_streak_rects) msg->ball_streak_windows.push_back(toRegionOfInterest(r));
   camera.windows_pub.publish(msg);
   if (show_windows_ && model) publishWindowMarkers(*model, *msg);
 }

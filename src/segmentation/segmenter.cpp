@@ -35,10 +35,14 @@ void toImageCoordinates(Region& r) {
 
 }  // namespace
 
-std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(
-    std::shared_ptr<const ColorTable> table) {
+std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(std::shared_ptr<const ColorTable> table,
+                                                                      const BallStreakParams& streak) {
   auto model = std::make_shared<SegmentationModel>();
   model->illumination = IlluminationAdaptation(table->illuminationReference(), table->illuminationLevels());
+  if (auto streaks = ballStreakTable(*table, streak)) {
+    model->streak_classifier =
+        std::make_shared<PixelClassifier>(std::make_shared<const ColorTable>(std::move(*streaks)));
+  }
   model->classifier = std::make_shared<PixelClassifier>(std::move(table));
   return model;
 }
@@ -67,12 +71,23 @@ RegionParams labelParams(const RegionParams& p, int label_width) {
 
 RegionParams quadLabelParams(const RegionParams& p) { return labelParams(p, kRegionParamsWidth / 2); }
 
-Segmenter::Segmenter(const SegmentationParams& params) : params_(params), extractor_(params.regions) {}
+namespace {
+// The streak pass extracts orange only.
+RegionParams orangeOnly(RegionParams p) {
+  p.classes = classBit(ColorClass::Orange);
+  return p;
+}
+}  // namespace
+
+Segmenter::Segmenter(const SegmentationParams& params)
+    : params_(params), extractor_(params.regions), streak_extractor_(orangeOnly(params.regions)) {}
 
 void Segmenter::setParams(const SegmentationParams& params) {
   params_ = params;
   extractor_ = RegionExtractor(params.regions);
   extractor_width_ = -1;
+  streak_extractor_ = RegionExtractor(orangeOnly(params.regions));
+  streak_extractor_width_ = -1;
 }
 
 RegionExtractor& Segmenter::extractorFor(int label_width) {
@@ -83,8 +98,53 @@ RegionExtractor& Segmenter::extractorFor(int label_width) {
   return extractor_;
 }
 
+void Segmenter::findBallStreaks(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
+                                const std::vector<cv::Rect>& streak_windows, SegmentationResult& out) {
+  const cv::Rect image_rect(0, 0, image.cols, image.rows);
+  std::vector<cv::Rect> rects, label_rects;
+  for (const cv::Rect& w : streak_windows) {
+    const cv::Rect clipped = w & image_rect;
+    if (clipped.empty()) continue;
+    rects.push_back(clipped);
+    label_rects.push_back(toLabelRect(clipped, layout));
+  }
+  if (rects.empty()) return;
+  const int label_width = labelSize(image.size(), layout).width;
+  if (label_width != streak_extractor_width_) {
+    streak_extractor_ = RegionExtractor(orangeOnly(labelParams(params_.regions, label_width)));
+    streak_extractor_width_ = label_width;
+  }
+  const FrameClassifier frame(*model.streak_classifier, image, layout, out.offsets, params_.sharpen);
+  std::vector<Region> streaks;
+  RegionStatistics stats;
+  streak_extractor_.extract(frame, label_rects, streaks, stats);
+  if (isBayer(layout)) {
+    for (auto& r : streaks) toImageCoordinates(r);
+  }
+  // The colour table's orange regions in those windows are parts of what the streak table
+  // finds there (it holds every orange cell): replaced, not counted twice.
+  auto inStreakWindow = [&](const Region& r) {
+    const cv::Point2d c(r.cx, r.cy);
+    return std::any_of(rects.begin(), rects.end(), [&](const cv::Rect& w) {
+      return c.x >= w.x && c.y >= w.y && c.x < w.x + w.width && c.y < w.y + w.height;
+    });
+  };
+  out.regions.erase(
+      std::remove_if(out.regions.begin(), out.regions.end(),
+                     [&](const Region& r) { return r.color == ColorClass::Orange && inStreakWindow(r); }),
+      out.regions.end());
+  for (Region& r : streaks) {
+    if (inStreakWindow(r)) out.regions.push_back(std::move(r));
+  }
+  out.streak_regions = static_cast<std::uint32_t>(streaks.size());
+  out.timings.classification_ms += stats.classify_ms;
+  out.timings.morphology_ms += stats.morphology_ms;
+  out.timings.regions_ms += stats.regions_ms;
+}
+
 void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
-                        const std::vector<cv::Rect>& windows, SegmentationResult& out) {
+                        const std::vector<cv::Rect>& windows, SegmentationResult& out,
+                        const std::vector<cv::Rect>& streak_windows) {
   const auto start = std::chrono::steady_clock::now();
   const cv::Rect image_rect(0, 0, image.cols, image.rows);
   out.windows.clear();
@@ -120,6 +180,9 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   out.timings.classification_ms = stats.classify_ms;
   out.timings.morphology_ms = stats.morphology_ms;
   out.timings.regions_ms = stats.regions_ms;
+  out.streak_regions = 0;
+  if (params_.ball_streaks && model.streak_classifier)
+    findBallStreaks(model, image, layout, streak_windows, out);
   out.timings.total_ms = msSince(start);
 }
 

@@ -59,6 +59,10 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   }
   // The policy sees every frame, so that its period and its expected targets stay current.
   plan.reason = policy_.decide(plan.windows, tracker.numRobotTracks() + tracker.numBallTracks());
+  for (const SearchWindow& w : plan.windows) {
+    if (w.primary_ball && plan.stamp - w.last_measured <= 1.5 * interval())
+      plan.ball_streak_rects.push_back(w.rect);
+  }
   if (!params_.search_windows) plan.reason = GlobalSearchReason::Periodic;
   plan.global_search = !camera || plan.reason != GlobalSearchReason::None;
   if (plan.global_search) return plan;

@@ -87,6 +87,8 @@ std::vector<SearchWindow> searchWindows(const TrackerOutput& predicted, const Ca
     if (!w) continue;
     w->target = SearchWindow::Target::Ball;
     w->track_id = b.track_id;
+    w->primary_ball = b.primary;
+    w->last_measured = b.last_measured;
     w->expected = w->expected && b.primary;  // alternatives come and go: not "expected"
     out.push_back(*w);
   }

@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "soccer_vision/segmentation/ball_streak_table.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/illumination_adaptation.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
@@ -31,6 +32,11 @@ struct SegmentationParams {
   // 2x2 quad) use labelParams(regions, width), so that the same settings keep markers of
   // the same size.
   RegionParams regions;
+  // In the ball's window (Segmenter::process' streak_windows), orange regions come from the
+  // streak table (ball_streak_table.h): a kicked ball blurred into a streak of ball and
+  // carpet is found there although the colour table's orange does not reach its mixture.
+  // false = off.
+  bool ball_streaks = true;
 };
 
 // Region parameters are given for a label image this wide; narrower ones scale them.
@@ -60,6 +66,7 @@ struct SegmentationResult {
   BlockOffsets offsets;                     // the illumination adjustment the frame was classified with
   std::uint32_t grid_points = 0;            // label pixels looked up by the grid scan
   std::uint32_t classified_pixels = 0;      // label pixels classified around the hits
+  std::uint32_t streak_regions = 0;         // orange regions of the streak windows from the streak table
   SegmentationTimings timings;
 };
 
@@ -68,9 +75,12 @@ struct SegmentationResult {
 // atomically when a new table is loaded or calibrated.
 struct SegmentationModel {
   std::shared_ptr<const PixelClassifier> classifier;
+  // The ball's streak table (ballStreakTable); null when the table has no ball or carpet.
+  std::shared_ptr<const PixelClassifier> streak_classifier;
   IlluminationAdaptation illumination;
 
-  static std::shared_ptr<const SegmentationModel> fromTable(std::shared_ptr<const ColorTable> table);
+  static std::shared_ptr<const SegmentationModel> fromTable(std::shared_ptr<const ColorTable> table,
+                                                            const BallStreakParams& streak = {});
 };
 
 class Segmenter {
@@ -79,16 +89,26 @@ class Segmenter {
   void setParams(const SegmentationParams& params);
   const SegmentationParams& params() const { return params_; }
 
-  // One frame. `windows` in image pixels; empty = global search. Throws
-  // std::invalid_argument for an image whose type does not fit `layout`.
+  // One frame. `windows` in image pixels; empty = global search. `streak_windows`: where
+  // the ball is expected (SearchPlan::ball_streak_rects; image pixels, whether the frame is
+  // searched whole or not), in which the orange regions are the streak table's
+  // (SegmentationParams::ball_streaks). Throws std::invalid_argument for an image whose
+  // type does not fit `layout`.
   void process(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
-               const std::vector<cv::Rect>& windows, SegmentationResult& out);
+               const std::vector<cv::Rect>& windows, SegmentationResult& out,
+               const std::vector<cv::Rect>& streak_windows = {});
 
  private:
   SegmentationParams params_;
   RegionExtractor& extractorFor(int label_width);  // labelParams for this label width
   RegionExtractor extractor_;
-  int extractor_width_ = -1;  // label width extractor_ was made for (-1: params_.regions as given)
+  int extractor_width_ = -1;          // label width extractor_ was made for (-1: params_.regions as given)
+  RegionExtractor streak_extractor_;  // orange only, for the streak windows
+  int streak_extractor_width_ = -1;
+  // Orange regions of the streak windows from the streak table, replacing the colour
+  // table's there.
+  void findBallStreaks(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
+                       const std::vector<cv::Rect>& streak_windows, SegmentationResult& out);
 };
 
 // Labels of every pixel (label resolution) with the same illumination offsets and

@@ -45,6 +45,13 @@ struct SearchPlan {
   std::vector<SearchWindow> windows;  // the tracks' windows (also when searching whole)
   std::vector<cv::Rect> rects;  // windows + entry bands (+ the sweep's stripe); empty for a global search
   cv::Rect sweep_stripe;        // the stripe of SearchPlannerParams::sweep in rects; empty: none
+  // The primary ball's window when its track was measured within 1.5 frame intervals of
+  // this plan's stamp (also when searching whole), else none: where the Segmenter takes
+  // orange from the ball's streak table (a ball seen until the last frame, kicked since).
+  // Not for a ball searched for after it was lost (out of view, hidden): its window would
+  // be filled with whatever reads as ball and carpet, such as Bayer fringes at the
+  // carpet's edge.
+  std::vector<cv::Rect> ball_streak_rects;
 };
 
 class SearchPlanner {

@@ -46,6 +46,8 @@ struct SearchWindow {
   int id = -1;                   // robots only; -1 team-only
   Eigen::Vector2d centre{0, 0};  // [px] predicted projection (may lie outside the image)
   bool expected = false;         // centre inside the image (margin): should be seen in this frame
+  bool primary_ball = false;     // the window of the primary ball's track
+  double last_measured = 0;      // [s] stamp of the ball track's last measurement (balls only)
 };
 
 // Windows for the frame the prediction was made for (`predicted` = Tracker::predictions(stamp of

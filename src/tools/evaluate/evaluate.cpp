@@ -9,7 +9,8 @@
 //        [--calibration-image P.png[,P1.png] | --calibration-frame N [--more-samples C:N:F[,...]]]]
 //       [--field-points F.yaml[,F1.yaml] [--pose-from lines|points] | --camera-pose C.yaml[,C1.yaml]]
 //       [--patterns NAME|FILE] [--field div_b|div_a|FILE]
-//       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--skip-table2]
+//       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--no-ball-streaks]
+//       [--skip-table2]
 //       [--measurement-offset S[,S1]]
 //       [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]
 //       [--markdown section.md [--title TEXT]]
@@ -98,6 +99,7 @@ struct Options {
   int calibration_frame = 0;        // the bag frame --samples / samples.yaml are on
   std::string pose_from = "lines";  // with field points: "points" alone, or refined on the "lines"
   bool windows = true, table2 = true, sweep = false, results_only = false, online_calibration = false;
+  bool ball_streaks = true;
 };
 
 // The options (docs/tools.md); which go together is checked by combinationProblem.
@@ -154,6 +156,9 @@ void addOptions(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_flag_callback(
       "--no-windows", [&o] { o.windows = false; }, "segment whole frames only");
+  app.add_flag_callback(
+      "--no-ball-streaks", [&o] { o.ball_streaks = false; },
+      "no streak table in the ball's windows (its orange as the colour table's)");
   app.add_flag_callback(
       "--skip-table2", [&o] { o.table2 = false; }, "skip the run without search windows");
   app.add_flag("--sweep", o.sweep, "also run Table I: frame step 1-4 x window side 50-400 px");
@@ -685,6 +690,7 @@ int evaluateBag(const Options& o) {
   params.frame_step = o.frame_step;
   params.search.windows.side_px = o.window_side;
   params.search.search_windows = o.windows;
+  params.segmentation.ball_streaks = o.ball_streaks;
   params.online_calibration.enabled = o.online_calibration;
   for (std::size_t i = 0; i < o.measurement_offsets.size(); ++i) {
     if (o.measurement_offsets.size() == 1)

@@ -1,0 +1,83 @@
+// The ball's streak table (ball_streak_table.h): the mixtures of the ball with the carpet
+// from min_ball_share on are orange, mixed in the encoded values or in linear light; the
+// carpet, the other marker colours and mostly-carpet mixtures are not.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "soccer_vision/segmentation/ball_streak_table.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+const cv::Vec3d kBall(8, 95, 215), kCarpet(55, 120, 50);  // BGR
+
+ClassSamplePixels streakSamples() {
+  ClassSamplePixels samples;
+  for (int i = 0; i < 9; ++i) {
+    const int d = i % 3 - 1;
+    samples[ColorClass::Orange].push_back({cv::Vec3b(8 + d, 95 - d, 215), 215});
+    samples[ColorClass::Yellow].push_back({cv::Vec3b(32 + d, 170 - d, 240), 240});
+    samples[ColorClass::Red].push_back({cv::Vec3b(38 + d, 40 - d, 230 + d), 230});
+  }
+  for (int i = 0; i < 40; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(55 + d, 120 - d, 50 + d), 120});
+  }
+  return samples;
+}
+
+ColorClass classify(const ColorTable& table, const cv::Vec3d& bgr) {
+  return table.classify(cv::saturate_cast<std::uint8_t>(bgr[0]), cv::saturate_cast<std::uint8_t>(bgr[1]),
+                        cv::saturate_cast<std::uint8_t>(bgr[2]));
+}
+
+// share x ball + (1 - share) x carpet in linear light (gamma 2.2), encoded again.
+cv::Vec3d linearMix(double share) {
+  cv::Vec3d out;
+  for (int i = 0; i < 3; ++i) {
+    const double l = share * std::pow(kBall[i] / 255, 2.2) + (1 - share) * std::pow(kCarpet[i] / 255, 2.2);
+    out[i] = 255 * std::pow(l, 1 / 2.2);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(BallStreakTable, HoldsTheStreaksMixturesTheColourTableLeavesOut) {
+  const ColorTable table = ColorTable::buildFromSamplePixels(streakSamples());
+  const auto streak = ballStreakTable(table);
+  ASSERT_TRUE(streak);
+  // A 12 m/s streak's middle: 60 % ball, in either mixing.
+  for (const cv::Vec3d& mix : {0.6 * kBall + 0.4 * kCarpet, linearMix(0.6), 0.4 * kBall + 0.6 * kCarpet}) {
+    EXPECT_NE(classify(table, mix), ColorClass::Orange);
+    EXPECT_EQ(classify(*streak, mix), ColorClass::Orange);
+  }
+  EXPECT_EQ(classify(*streak, kBall), ColorClass::Orange);
+  // Mostly carpet, the carpet, and the other markers' colours are not the ball's.
+  EXPECT_EQ(classify(*streak, 0.15 * kBall + 0.85 * kCarpet), ColorClass::None);
+  EXPECT_EQ(classify(*streak, kCarpet), ColorClass::None);
+  EXPECT_EQ(classify(*streak, cv::Vec3d(32, 170, 240)), ColorClass::None);  // yellow
+  EXPECT_EQ(classify(*streak, cv::Vec3d(38, 40, 230)), ColorClass::None);   // red
+  // Every cell of the table's orange is the streak table's too, and it holds nothing else.
+  for (std::size_t i = 0; i < table.cells().size(); ++i) {
+    if (table.cells()[i] == ColorClass::Orange) EXPECT_EQ(streak->cells()[i], ColorClass::Orange) << i;
+    EXPECT_TRUE(streak->cells()[i] == ColorClass::Orange || streak->cells()[i] == ColorClass::None) << i;
+  }
+}
+
+TEST(BallStreakTable, NeedsTheBallAndTheCarpetAndSaneParameters) {
+  ClassSamplePixels samples = streakSamples();
+  samples.erase(ColorClass::Carpet);
+  EXPECT_FALSE(ballStreakTable(ColorTable::buildFromSamplePixels(samples)));
+  samples = streakSamples();
+  samples.erase(ColorClass::Orange);
+  EXPECT_FALSE(ballStreakTable(ColorTable::buildFromSamplePixels(samples)));
+  const ColorTable table = ColorTable::buildFromSamplePixels(streakSamples());
+  for (const BallStreakParams& bad : {BallStreakParams{0, 0.12, 2.2}, BallStreakParams{1, 0.12, 2.2},
+                                      BallStreakParams{0.3, 0, 2.2}, BallStreakParams{0.3, NAN, 2.2},
+                                      BallStreakParams{0.3, 0.12, 0.5}, BallStreakParams{NAN, 0.12, 2.2}}) {
+    EXPECT_THROW(ballStreakTable(table, bad), std::invalid_argument);
+  }
+}
