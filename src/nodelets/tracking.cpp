@@ -201,6 +201,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   tracker_params_.robot_lost_timeout = config.robot_lost_timeout;
   tracker_params_.ball_lost_timeout = config.ball_lost_timeout;
   tracker_params_.min_confidence = config.min_confidence;
+  tracker_params_.misread_distance = config.misread_distance;
   tracker_params_.time.max_forward_jump = config.max_forward_jump;
   tracker_params_.time.late_tolerance = config.late_tolerance;
   tracker_params_.measurement_offset = config.measurement_offset;
@@ -404,6 +405,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("frames dropped (late/invalid stamps)", s.dropped_frames);
   stat.add("resets (time jumps)", s.resets);
   stat.add("robot outliers", s.robot_outliers);
+  stat.add("robot ids misread (taken as the track's robot)", s.misread_ids);
   stat.add("robot manoeuvres (sudden velocity changes)", s.robot_maneuvers);
   stat.add("heading manoeuvres (sudden turns)", s.heading_maneuvers);
   stat.add("measurement offset [s]", tracker_params_.measurement_offset);

@@ -45,6 +45,9 @@ void validate(const TrackerParams& p) {
   }
   if (p.max_ball_tracks < 1) throw std::invalid_argument("tracker: max_ball_tracks must be >= 1");
   if (!(p.visible_window >= 0)) throw std::invalid_argument("tracker: visible_window must be >= 0");
+  if (!(p.misread_distance >= 0 && p.misread_distance <= 0.2))
+    throw std::invalid_argument("tracker: misread_distance must be in [0, 0.2] m");
+  positive(p.misread_recent, "misread_recent");
   if (!(p.max_coast_uncertainty >= 0) || !std::isfinite(p.max_coast_uncertainty)) {
     throw std::invalid_argument("tracker: max_coast_uncertainty must be >= 0 (0 = off)");
   }
@@ -122,6 +125,7 @@ TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   stats_.robot_outliers += report.robot_outliers;
   stats_.heading_outliers += report.heading_outliers;
   stats_.robots_reinitialised += report.robots_reinitialised;
+  stats_.misread_ids += report.misread_ids;
   stats_.robot_maneuvers += report.robot_maneuvers;
   stats_.heading_maneuvers += report.heading_maneuvers;
   stats_.ball_kicks += report.ball_kicks;
@@ -179,9 +183,53 @@ void Tracker::startRobot(const RobotDetection& d, const CameraFrameDetections& f
   report.measured_track_ids.push_back(robots_.back().track_id);
 }
 
+std::vector<RobotDetection> Tracker::misreadIdentities(const CameraFrameDetections& frame,
+                                                       IdentityDetections& by_identity, double lag,
+                                                       TrackerUpdateReport& report) const {
+  std::vector<RobotDetection> misread;
+  if (p_.misread_distance <= 0) return misread;
+  auto recent = [&](const RobotTrack& t) { return frame.stamp - t.last_measured <= p_.misread_recent; };
+  auto onTrack = [&](const RobotTrack& t, const RobotDetection& d) {
+    const auto m = compensated(t, d, lag);
+    const auto& s = t.filter.state();
+    return std::hypot(m.x - s(0), m.y - s(1)) <= p_.misread_distance;
+  };
+  // Whether a recent track of the detection's own identity lies there too: then it is that
+  // robot (and the other track was moved there by a wrong read before).
+  auto ownTrackThere = [&](const RobotDetection& d) {
+    return std::any_of(robots_.begin(), robots_.end(), [&](const RobotTrack& t) {
+      return t.team == d.team && t.id == d.id && recent(t) && onTrack(t, d);
+    });
+  };
+  // Takes from by_identity the detection of another id lying on track t, if any.
+  auto takeMisread = [&](const RobotTrack& t) {
+    for (auto& [identity, detections] : by_identity) {
+      if (identity.first != static_cast<int>(t.team)) continue;
+      for (auto it = detections.begin(); it != detections.end(); ++it) {
+        if ((*it)->confidence >= t.confidence || !onTrack(t, **it) || ownTrackThere(**it)) continue;
+        misread.push_back(**it);
+        misread.back().id = t.id;
+        detections.erase(it);
+        return;
+      }
+    }
+  };
+  misread.reserve(frame.robots.size());  // by_identity will point into it: never reallocated
+  for (const RobotTrack& t : robots_) {
+    if (t.id < 0 || !recent(t)) continue;
+    if (by_identity.count({static_cast<int>(t.team), t.id})) continue;  // read as itself
+    takeMisread(t);
+  }
+  for (auto it = by_identity.begin(); it != by_identity.end();) {
+    it = it->second.empty() ? by_identity.erase(it) : std::next(it);
+  }
+  report.misread_ids += static_cast<int>(misread.size());
+  return misread;
+}
+
 void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report) {
   // Usable detections, split into identities and team-only.
-  std::map<std::pair<int, int>, std::vector<const RobotDetection*>> by_identity;
+  IdentityDetections by_identity;
   std::vector<const RobotDetection*> team_only[2];
   for (const auto& d : frame.robots) {
     if (!finite(d)) {
@@ -195,6 +243,9 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, Track
       team_only[static_cast<int>(d.team)].push_back(&d);
     }
   }
+
+  const std::vector<RobotDetection> misread = misreadIdentities(frame, by_identity, lag, report);
+  for (const RobotDetection& d : misread) by_identity[{static_cast<int>(d.team), d.id}].push_back(&d);
 
   for (const auto& [key, detections] : by_identity) {
     // A copy: C++17 lambdas cannot capture structured bindings (clang refuses; scripts/fuzz).

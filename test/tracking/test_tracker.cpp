@@ -420,3 +420,65 @@ TEST(FrameStep, ProcessesEveryNthFrame) {
   EXPECT_THROW(FrameStep(0), std::invalid_argument);
   EXPECT_THROW(all.setStep(-2), std::invalid_argument);
 }
+
+TEST(Tracker, AMisreadIdOnATrackedRobotIsThatRobot) {
+  // Yellow 0 is tracked (confidence 0.9); one frame reads its pink as red: yellow 4 at 0.3,
+  // 3 mm from it. Two robots' centres cannot be that close, so it is yellow 0, measured;
+  // no yellow 4 appears. A sure read (0.95), or one 0.2 m away (another robot), is not a
+  // misread; nor is anything with misread_distance 0.
+  for (const double misread_distance : {0.05, 0.0}) {
+    TrackerParams p;
+    p.misread_distance = misread_distance;
+    Tracker tracker(p);
+    int k = 0;
+    for (; k < 10; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Yellow, 0, 1, 1)}));
+    RobotDetection misread = robot(Team::Yellow, 4, 1.003, 1);
+    misread.confidence = 0.3;
+    const TrackerUpdateReport report = tracker.update(frame(kT0 + k * kDt, 0, {misread}));
+    TrackerOutput out = tracker.output(kT0 + k * kDt);
+    if (misread_distance > 0) {
+      EXPECT_EQ(report.misread_ids, 1);
+      ASSERT_TRUE(find(out, Team::Yellow, 0));
+      EXPECT_TRUE(find(out, Team::Yellow, 0)->visible);
+      EXPECT_FALSE(find(out, Team::Yellow, 4));
+      EXPECT_EQ(tracker.stats().misread_ids, 1);
+    } else {
+      EXPECT_EQ(report.misread_ids, 0);
+      EXPECT_FALSE(find(out, Team::Yellow, 0)->visible);
+      EXPECT_TRUE(find(out, Team::Yellow, 4));
+      continue;
+    }
+    ++k;
+    RobotDetection sure = robot(Team::Yellow, 4, 1.003, 1);
+    sure.confidence = 0.95;
+    EXPECT_EQ(tracker.update(frame(kT0 + k * kDt, 0, {sure})).misread_ids, 0);
+    EXPECT_TRUE(find(tracker.output(kT0 + k * kDt), Team::Yellow, 4));
+    ++k;
+    RobotDetection beside = robot(Team::Yellow, 3, 1.2, 1);
+    beside.confidence = 0.3;
+    EXPECT_EQ(tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Yellow, 4, 1.003, 1), beside})).misread_ids,
+              0);
+    EXPECT_TRUE(find(tracker.output(kT0 + k * kDt), Team::Yellow, 3));
+  }
+  // Sure wrong reads put yellow 0's track onto yellow 1 (confidence 1.0). Yellow 1 read
+  // right (0.8, less sure than that track) is yellow 1: its own track is there too.
+  {
+    Tracker tracker;
+    int k = 0;
+    for (; k < 10; ++k) {
+      RobotDetection wrong = robot(Team::Yellow, 0, 1.002, 1);
+      wrong.confidence = 1.0;
+      tracker.update(frame(kT0 + k * kDt, 0, {wrong, robot(Team::Yellow, 1, 1, 1)}));
+    }
+    RobotDetection right = robot(Team::Yellow, 1, 1, 1);
+    right.confidence = 0.8;
+    EXPECT_EQ(tracker.update(frame(kT0 + k * kDt, 0, {right})).misread_ids, 0);
+    EXPECT_TRUE(find(tracker.output(kT0 + k * kDt), Team::Yellow, 1)->visible);
+  }
+  TrackerParams bad;
+  bad.misread_distance = -0.01;
+  EXPECT_THROW(validate(bad), std::invalid_argument);
+  bad.misread_distance = 0.05;
+  bad.misread_recent = 0;
+  EXPECT_THROW(validate(bad), std::invalid_argument);
+}

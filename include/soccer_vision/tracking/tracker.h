@@ -64,6 +64,12 @@ struct TrackerParams {
   double visible_window = 0.001;      // [s] "visible": measured at most this long before the output stamp
   double confidence_smoothing = 0.3;  // (0..1] weight of a new detection in the running confidence
   double ball_rate_memory = 0.25;     // [s] time constant of the ball tracks' measurement rate
+  // A robot whose id was misread: a detection with another id of its team, within
+  // misread_distance [m] of a track measured at most misread_recent [s] before and surer of
+  // its identity (running confidence) than the detection, is that robot (two robots' centres
+  // cannot be that close). The track is measured with it, counted in misread_ids. 0 = off.
+  double misread_distance = 0.05;
+  double misread_recent = 0.1;
   // A coasting track leaves output() once coast_sigmas x its predicted position's std-dev
   // (largest axis) exceeds max_coast_uncertainty [m]; 0 = never (every track is output).
   double max_coast_uncertainty = 0.025;
@@ -134,6 +140,7 @@ struct TrackerUpdateReport {
   int heading_maneuvers = 0;     // heading outside its gate, taken as a sudden turn
   int robots_reinitialised = 0;  // restarted after consecutive rejections
   int duplicate_detections = 0;  // same identity twice in one frame
+  int misread_ids = 0;           // detections taken as the robot of the track they lie on
   int invalid_detections = 0;    // non-finite numbers
   int balls_measured = 0;
   int ball_kicks = 0;  // ball filters restarted by a kick
@@ -152,6 +159,7 @@ struct TrackerStats {
   long heading_maneuvers = 0;
   long ball_kicks = 0, tracks_created = 0, tracks_lost = 0;
   long balls_replaced = 0;
+  long misread_ids = 0;
 };
 
 class Tracker {
@@ -210,6 +218,12 @@ class Tracker {
   void choosePrimaryBall();
 
   void clearTracks();
+  using IdentityDetections = std::map<std::pair<int, int>, std::vector<const RobotDetection*>>;
+  // Detections (team, id) misread for the robot of a track they lie on (misread_distance),
+  // taken out of `by_identity` and returned with that track's id.
+  std::vector<RobotDetection> misreadIdentities(const CameraFrameDetections& frame,
+                                                IdentityDetections& by_identity, double lag,
+                                                TrackerUpdateReport& report) const;
   void updateRobots(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report);
   void updateBalls(const CameraFrameDetections& frame, double lag, TrackerUpdateReport& report);
   void measureRobot(RobotTrack& track, const RobotDetection& d, const CameraFrameDetections& frame,
