@@ -328,6 +328,9 @@ std::shared_ptr<const SegmentationModel> OnlineCalibration::update(double stamp)
   } else {
     m->classifier = model_->classifier;
   }
+  // The ball's streak table stays the calibrated table's: what is learned here is the
+  // robots' markers and the carpet, never the ball.
+  m->streak_classifier = base_->streak_classifier;
   m->illumination = base_->illumination.withExpectedLevels(expected_);
   model_ = std::move(m);
   return model_;

@@ -1,11 +1,14 @@
 #include "soccer_vision/tracking/search_planner.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace soccer_vision {
 
 void validate(const SearchPlannerParams& p) {
   if (p.entry_band_px < 0) throw std::invalid_argument("entry_band_px must be >= 0");
+  if (!(p.ball_streak_intervals >= 0) || !std::isfinite(p.ball_streak_intervals))
+    throw std::invalid_argument("ball_streak_intervals must be finite and >= 0");
   validate(p.global_search);
   validate(p.windows);
 }
@@ -60,7 +63,7 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   // The policy sees every frame, so that its period and its expected targets stay current.
   plan.reason = policy_.decide(plan.windows, tracker.numRobotTracks() + tracker.numBallTracks());
   for (const SearchWindow& w : plan.windows) {
-    if (w.primary_ball && plan.stamp - w.last_measured <= 1.5 * interval())
+    if (w.primary_ball && plan.stamp - w.last_measured <= params_.ball_streak_intervals * interval())
       plan.ball_streak_rects.push_back(w.rect);
   }
   if (!params_.search_windows) plan.reason = GlobalSearchReason::Periodic;

@@ -87,6 +87,27 @@ TEST(OnlineCalibration, LearnsAHoleInsideConfirmedMarkers) {
   EXPECT_EQ(learning.status().learnedTotal(), 0u);
 }
 
+TEST(OnlineCalibration, ALearnedModelKeepsTheBallsStreakTable) {
+  // What is learned is the robots' markers and the carpet: the ball's streak table
+  // (ball_streak_table.h) stays the calibrated one's, not lost with the first update.
+  ColorTableParams p;
+  p.v_margin = 0;
+  p.generalize_sigmas = 0;
+  ClassPixels samples;
+  samples[ColorClass::Blue].assign(50, kBlue);
+  samples[ColorClass::Orange].assign(50, cv::Vec3b(8, 95, 215));
+  samples[ColorClass::Carpet].assign(50, cv::Vec3b(60, 110, 60));
+  const auto base =
+      SegmentationModel::fromTable(std::make_shared<const ColorTable>(ColorTable::build(samples, p)));
+  ASSERT_TRUE(base->streak_classifier);
+  OnlineCalibration learning(base, enabled());
+  const cv::Mat image = frameWith({{{128, 128}, kBrightBlue}}, 10);
+  const auto learned = run(learning, image, {disc(ColorClass::Blue, 128, 128, 10)}, {0}, 90);
+  ASSERT_NE(learned, nullptr);
+  EXPECT_NE(learned->classifier, base->classifier);
+  EXPECT_EQ(learned->streak_classifier, base->streak_classifier);
+}
+
 TEST(OnlineCalibration, RegionsNotConfirmedTeachNothing) {
   OnlineCalibration learning(tightModel(), enabled());
   const cv::Mat image = frameWith({{{128, 128}, kBrightBlue}}, 10);

@@ -183,3 +183,49 @@ TEST(SearchPlanner, AFirstFrameSearchedWholeIsTheFirstSearch) {
     EXPECT_EQ(plan.reason, searched_whole ? GlobalSearchReason::None : GlobalSearchReason::First);
   }
 }
+
+// The primary ball's window is where the Segmenter takes the ball's streak table while the
+// ball is seen: with it measured in the last frame, and after one or two frames missed
+// (a kick during the exposure), not after four, and never an alternative ball's.
+TEST(SearchPlanner, ThePrimaryBallsWindowIsAStreakWindowWhileTheBallIsSeen) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  SearchPlanner planner;
+  TrackerParams tracker_params;
+  tracker_params.field = field;
+  Tracker tracker(tracker_params);
+  const double dt = 1.0 / 60;
+  auto frameWith = [&](double stamp, std::vector<BallDetection> balls) {
+    CameraFrameDetections f;
+    f.stamp = stamp;
+    f.balls = std::move(balls);
+    return f;
+  };
+  BallDetection ball, other;
+  ball.x = -2.0, ball.y = 0.5, ball.confidence = 0.9;
+  other.x = -3.5, other.y = -1.5, other.confidence = 0.5;
+  SearchPlan plan;
+  int k = 0;
+  for (; k < 20; ++k) {
+    const double stamp = kT0 + k * dt;
+    planner.observe(tracker.update(frameWith(stamp, {ball, other})), stamp);
+    plan = planner.plan(tracker, &camera, stamp);
+  }
+  int ball_windows = 0;
+  for (const SearchWindow& w : plan.windows) ball_windows += w.target == SearchWindow::Target::Ball;
+  EXPECT_EQ(ball_windows, 2);
+  ASSERT_EQ(plan.ball_streak_rects.size(), 1u);
+  const auto primary = camera.project({ball.x, ball.y, 0.0215});
+  ASSERT_TRUE(primary);
+  EXPECT_TRUE(inside(plan.ball_streak_rects[0], *primary));
+  // Missed: still a streak window for the next two frames, none from the fourth on.
+  for (int missed = 1; missed <= 5; ++missed, ++k) {
+    const double stamp = kT0 + k * dt;
+    planner.observe(tracker.update(frameWith(stamp, {})), stamp);
+    plan = planner.plan(tracker, &camera, stamp);
+    EXPECT_EQ(plan.ball_streak_rects.size(), missed <= 2 ? 1u : 0u) << missed;
+  }
+  SearchPlannerParams bad;
+  bad.ball_streak_intervals = -1;
+  EXPECT_THROW(validate(bad), std::invalid_argument);
+}

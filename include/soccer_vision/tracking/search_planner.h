@@ -33,6 +33,11 @@ struct SearchPlannerParams {
   // that a robot fits whole into one of two neighbouring stripes): the same coverage,
   // without the whole frame's latency spike. The other reasons still search whole.
   bool sweep = true;
+  // The primary ball's window is a streak window (SearchPlan::ball_streak_rects) while its
+  // track was measured within this many frame intervals of the planned frame: a ball kicked
+  // during one frame's exposure may be missed there (its streak bent by the kick) and still
+  // followed; not one searched for long after it was lost. docs/segmentation.md.
+  double ball_streak_intervals = 3.5;
 };
 
 void validate(const SearchPlannerParams& p);  // throws std::invalid_argument
@@ -45,8 +50,9 @@ struct SearchPlan {
   std::vector<SearchWindow> windows;  // the tracks' windows (also when searching whole)
   std::vector<cv::Rect> rects;  // windows + entry bands (+ the sweep's stripe); empty for a global search
   cv::Rect sweep_stripe;        // the stripe of SearchPlannerParams::sweep in rects; empty: none
-  // The primary ball's window when its track was measured within 1.5 frame intervals of
-  // this plan's stamp (also when searching whole), else none: where the Segmenter takes
+  // The primary ball's window when its track was measured within
+  // SearchPlannerParams::ball_streak_intervals of this plan's stamp (also when searching
+  // whole), else none: where the Segmenter takes
   // orange from the ball's streak table (a ball seen until the last frame, kicked since).
   // Not for a ball searched for after it was lost (out of view, hidden): its window would
   // be filled with whatever reads as ball and carpet, such as Bayer fringes at the
