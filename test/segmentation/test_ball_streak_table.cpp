@@ -5,28 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include "ball_and_carpet_samples.h"
 #include "soccer_vision/segmentation/ball_streak_table.h"
 
 using namespace soccer_vision;
 
 namespace {
 
-const cv::Vec3d kBall(8, 95, 215), kCarpet(55, 120, 50);  // BGR
-
-ClassSamplePixels streakSamples() {
-  ClassSamplePixels samples;
-  for (int i = 0; i < 9; ++i) {
-    const int d = i % 3 - 1;
-    samples[ColorClass::Orange].push_back({cv::Vec3b(8 + d, 95 - d, 215), 215});
-    samples[ColorClass::Yellow].push_back({cv::Vec3b(32 + d, 170 - d, 240), 240});
-    samples[ColorClass::Red].push_back({cv::Vec3b(38 + d, 40 - d, 230 + d), 230});
-  }
-  for (int i = 0; i < 40; ++i) {
-    const int d = i % 5 - 2;
-    samples[ColorClass::Carpet].push_back({cv::Vec3b(55 + d, 120 - d, 50 + d), 120});
-  }
-  return samples;
-}
+const cv::Vec3d kBall = test::kSampledBall, kCarpet = test::kSampledCarpet;
 
 ColorClass classify(const ColorTable& table, const cv::Vec3d& bgr) {
   return table.classify(cv::saturate_cast<std::uint8_t>(bgr[0]), cv::saturate_cast<std::uint8_t>(bgr[1]),
@@ -46,7 +32,7 @@ cv::Vec3d linearMix(double share) {
 }  // namespace
 
 TEST(BallStreakTable, HoldsTheStreaksMixturesTheColourTableLeavesOut) {
-  const ColorTable table = ColorTable::buildFromSamplePixels(streakSamples());
+  const ColorTable table = ColorTable::buildFromSamplePixels(test::ballAndCarpetSamples());
   const auto streak = ballStreakTable(table);
   ASSERT_TRUE(streak);
   // A 12 m/s streak's middle: 60 % ball, in either mixing.
@@ -62,19 +48,21 @@ TEST(BallStreakTable, HoldsTheStreaksMixturesTheColourTableLeavesOut) {
   EXPECT_EQ(classify(*streak, cv::Vec3d(38, 40, 230)), ColorClass::None);   // red
   // Every cell of the table's orange is the streak table's too, and it holds nothing else.
   for (std::size_t i = 0; i < table.cells().size(); ++i) {
-    if (table.cells()[i] == ColorClass::Orange) EXPECT_EQ(streak->cells()[i], ColorClass::Orange) << i;
+    if (table.cells()[i] == ColorClass::Orange) {
+      EXPECT_EQ(streak->cells()[i], ColorClass::Orange) << i;
+    }
     EXPECT_TRUE(streak->cells()[i] == ColorClass::Orange || streak->cells()[i] == ColorClass::None) << i;
   }
 }
 
 TEST(BallStreakTable, NeedsTheBallAndTheCarpetAndSaneParameters) {
-  ClassSamplePixels samples = streakSamples();
+  ClassSamplePixels samples = test::ballAndCarpetSamples();
   samples.erase(ColorClass::Carpet);
   EXPECT_FALSE(ballStreakTable(ColorTable::buildFromSamplePixels(samples)));
-  samples = streakSamples();
+  samples = test::ballAndCarpetSamples();
   samples.erase(ColorClass::Orange);
   EXPECT_FALSE(ballStreakTable(ColorTable::buildFromSamplePixels(samples)));
-  const ColorTable table = ColorTable::buildFromSamplePixels(streakSamples());
+  const ColorTable table = ColorTable::buildFromSamplePixels(test::ballAndCarpetSamples());
   for (const BallStreakParams& bad : {BallStreakParams{0, 0.12, 2.2}, BallStreakParams{1, 0.12, 2.2},
                                       BallStreakParams{0.3, 0, 2.2}, BallStreakParams{0.3, NAN, 2.2},
                                       BallStreakParams{0.3, 0.12, 0.5}, BallStreakParams{NAN, 0.12, 2.2}}) {

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "ball_and_carpet_samples.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
@@ -345,17 +346,7 @@ TEST(ColorTable, ABallMixedWithTheCarpetKeepsItsColour) {
   // is also its samples' Gaussian moved to 10 % and 20 % of the carpet's colour, so it
   // reaches a quarter carpet, where without that it stops at a fifth; the yellow print and
   // the carpet keep their classes.
-  ClassSamplePixels samples;
-  for (int i = 0; i < 9; ++i) {
-    const int d = i % 3 - 1;
-    samples[ColorClass::Orange].push_back({cv::Vec3b(8 + d, 95 - d, 215), 215});
-    samples[ColorClass::Yellow].push_back({cv::Vec3b(32 + d, 170 - d, 240), 240});
-    samples[ColorClass::Red].push_back({cv::Vec3b(38 + d, 40 - d, 230 + d), 230});
-  }
-  for (int i = 0; i < 40; ++i) {
-    const int d = i % 5 - 2;
-    samples[ColorClass::Carpet].push_back({cv::Vec3b(55 + d, 120 - d, 50 + d), 120});
-  }
+  ClassSamplePixels samples = test::ballAndCarpetSamples();
   const ColorTable with = ColorTable::buildFromSamplePixels(samples);
   ColorTableParams off;
   off.ball_carpet_mix = 0;

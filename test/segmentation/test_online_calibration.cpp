@@ -18,15 +18,16 @@ const cv::Scalar kCarpet(60, 110, 60);
 const cv::Vec3b kBlue(200, 80, 20);        // the calibrated blue (V 200)
 const cv::Vec3b kBrightBlue(230, 92, 23);  // the same hue and saturation at V 230: a hole
 
-// A table of blue and carpet from exact pixels: its blue body is V 200 only (no margin, no
-// generalisation), so V 230 is a hole.
-std::shared_ptr<const SegmentationModel> tightModel() {
+// A table of blue and carpet (and the ball) from exact pixels: its blue body is V 200 only
+// (no margin, no generalisation), so V 230 is a hole.
+std::shared_ptr<const SegmentationModel> tightModel(bool with_ball = false) {
   ColorTableParams p;
   p.v_margin = 0;
   p.generalize_sigmas = 0;
   ClassPixels samples;
   samples[ColorClass::Blue].assign(50, kBlue);
   samples[ColorClass::Carpet].assign(50, cv::Vec3b(60, 110, 60));
+  if (with_ball) samples[ColorClass::Orange].assign(50, cv::Vec3b(8, 95, 215));
   return SegmentationModel::fromTable(std::make_shared<const ColorTable>(ColorTable::build(samples, p)));
 }
 
@@ -90,15 +91,7 @@ TEST(OnlineCalibration, LearnsAHoleInsideConfirmedMarkers) {
 TEST(OnlineCalibration, ALearnedModelKeepsTheBallsStreakTable) {
   // What is learned is the robots' markers and the carpet: the ball's streak table
   // (ball_streak_table.h) stays the calibrated one's, not lost with the first update.
-  ColorTableParams p;
-  p.v_margin = 0;
-  p.generalize_sigmas = 0;
-  ClassPixels samples;
-  samples[ColorClass::Blue].assign(50, kBlue);
-  samples[ColorClass::Orange].assign(50, cv::Vec3b(8, 95, 215));
-  samples[ColorClass::Carpet].assign(50, cv::Vec3b(60, 110, 60));
-  const auto base =
-      SegmentationModel::fromTable(std::make_shared<const ColorTable>(ColorTable::build(samples, p)));
+  const auto base = tightModel(true);
   ASSERT_TRUE(base->streak_classifier);
   OnlineCalibration learning(base, enabled());
   const cv::Mat image = frameWith({{{128, 128}, kBrightBlue}}, 10);
