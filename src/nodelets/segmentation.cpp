@@ -246,6 +246,7 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0, dropped_error_ = 0;
   std::uint64_t window_dropped_ = 0;
   std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0, skipped_by_frame_step_ = 0;
+  std::uint64_t streak_frames_ = 0, streak_regions_ = 0;  // the ball's streak table (ball_streaks)
   std::uint64_t calibrations_refused_ = 0;
   OnlineCalibrationStatus online_status_;
   std::uint64_t confirmed_unmatched_ = 0;  // confirmed markers whose frame was no longer kept
@@ -548,6 +549,9 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
       window_cap_hits_ += result_.cap_hits[c];
     }
     if (!result_.global_search) ++windowed_frames_;
+    if (segmenter_.params().ball_streaks && m->streak_classifier && !windows.ball_streak.empty())
+      ++streak_frames_;
+    streak_regions_ += result_.streak_regions;
     if (result_.illumination_size_mismatch) ++illumination_mismatch_;
   }
   if (result_.illumination_size_mismatch)
@@ -825,6 +829,8 @@ void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrappe
   }
   stat.add("frames processed", frames_processed_);
   stat.add("frames with search windows", windowed_frames_);
+  stat.add("frames with a ball streak window", streak_frames_);
+  stat.add("ball streak regions (orange from the streak table)", streak_regions_);
   stat.add("frames skipped by frame_step", skipped_by_frame_step_);
   stat.add("dropped: unsupported encoding", dropped_encoding_);
   if (!last_bad_encoding_.empty()) stat.add("last unsupported encoding", last_bad_encoding_);

@@ -3,12 +3,12 @@
 // exposure; the rest of the time that pixel sees the carpet. The colour table's orange
 // reaches only a 10 % carpet mixture (ColorTableParams::ball_carpet_mix: further, a yellow
 // print under a warm lamp and a real frame's red dot turn orange), so such a streak has no
-// orange region. Where the tracker expects a ball (its search windows) the streak table
-// classifies instead: orange is every colour near the mixture of the ball's and the
-// carpet's mean colours (the table's statistics of their valid samples) with at least
-// `min_ball_share` of the ball, mixed in linear light (a sensor integrating the exposure)
-// or in the encoded values (a linear camera): within `tolerance` × the distance between
-// the two colours, in 8-bit RGB. The carpet's cells stay the carpet's.
+// orange region. In the primary ball's window while the ball is seen
+// (SearchPlan::ball_streak_rects) the streak table classifies instead: orange is every colour near the
+// mixture of the ball's and the carpet's mean colours (the table's statistics of their valid samples) with at
+// least `min_ball_share` of the ball, mixed in linear light (a sensor integrating the exposure) or in the
+// encoded values (a linear camera): within `tolerance` × the distance between the two colours, in 8-bit RGB.
+// The carpet's cells stay the carpet's.
 #pragma once
 
 #include <optional>

@@ -52,11 +52,10 @@ struct SearchPlan {
   cv::Rect sweep_stripe;        // the stripe of SearchPlannerParams::sweep in rects; empty: none
   // The primary ball's window when its track was measured within
   // SearchPlannerParams::ball_streak_intervals of this plan's stamp (also when searching
-  // whole), else none: where the Segmenter takes
-  // orange from the ball's streak table (a ball seen until the last frame, kicked since).
-  // Not for a ball searched for after it was lost (out of view, hidden): its window would
-  // be filled with whatever reads as ball and carpet, such as Bayer fringes at the
-  // carpet's edge.
+  // whole), else none: where the Segmenter takes orange from the ball's streak table (a
+  // ball seen until a moment ago, kicked since). Not for a ball searched for after it was
+  // lost (out of view, hidden): its window would be filled with whatever reads as ball and
+  // carpet, such as Bayer fringes at the carpet's edge.
   std::vector<cv::Rect> ball_streak_rects;
 };
 

@@ -735,6 +735,7 @@ int evaluateBag(const Options& o) {
   report["frame_step"] = o.frame_step;
   report["window_side"] = o.window_side;
   report["search_windows"] = o.windows;
+  report["ball_streaks"] = o.ball_streaks;
   report["online_calibration"] = o.online_calibration;
   if (o.online_calibration) report["learned_cells"] = main.learned_cells;
   report["frames_processed"] = main.processed;
