@@ -42,7 +42,6 @@
 #include "soccer_vision/SearchWindows.h"
 #include "soccer_vision/SegmentationConfig.h"
 #include "soccer_vision/calibration/color_calibration.h"
-#include "soccer_vision/common/bayer_encoding.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/common/path_inside_directory.h"
 #include "soccer_vision/ros/blob_conversions.h"
@@ -705,8 +704,9 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     if (!imageMessageIsConsistent(*image, *layout))
       throw std::runtime_error("the request's image is empty, truncated or inconsistent");
     const cv::Mat mat = cv_bridge::toCvShare(image)->image;
-    // Calibration works on BGR: shared for bgr8, converted (copied) otherwise.
-    const cv::Mat bgr = bgrOfEncoding(mat, image->encoding);
+    // Calibration works on the colours the classifier reads (a Bayer mosaic's quads, not a
+    // demosaic), as evaluate and the synthetic calibration do.
+    const cv::Mat bgr = classifiedColors(mat, *layout);
     const ColorSamples samples = parseColorSamples(req.samples_yaml, "samples_yaml");
     if (samples.empty()) throw std::runtime_error("samples_yaml has no class with polygons");
     // Checked before any work: a save path outside the allowed directory is refused at once.

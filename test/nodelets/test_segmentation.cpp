@@ -500,6 +500,34 @@ TEST_F(SegmentationTest, CalibrateSwapsTable) {
   }
   EXPECT_GE(yellow_added, 0.8 * arrays.size()) << "frames with yellow blobs (robots may leave the view)";
   EXPECT_EQ(blue_kept, static_cast<int>(arrays.size())) << "frames with blue blobs";
+  // A Bayer frame is calibrated on its quads' colours, what the classifier reads (as
+  // evaluate and the synthetic calibration do), not on a demosaic: every quad of this
+  // mosaic reads (R 200, G (70 + 130) / 2, B 30), which a demosaic spreads to G 70..130 at
+  // its green sites. One colour: orange's hue variance is the quantisation's floor.
+  {
+    soccer_vision::Calibrate srv;
+    srv.request.samples_yaml = "orange:\n  - [[0, 0], [64, 0], [64, 64], [0, 64]]\n";
+    srv.request.save = true;
+    srv.request.replace = true;
+    srv.request.path = dir_ + "/bayer_quads.svct";
+    sensor_msgs::Image& mosaic = srv.request.image;
+    mosaic.width = mosaic.height = 64;
+    mosaic.encoding = "bayer_rggb8";
+    mosaic.step = 64;
+    mosaic.data.resize(64 * 64);
+    for (int y = 0; y < 64; ++y) {
+      for (int x = 0; x < 64; ++x) {
+        mosaic.data[y * 64 + x] = y % 2 == 0 ? (x % 2 == 0 ? 200 : 70) : (x % 2 == 0 ? 130 : 30);
+      }
+    }
+    ASSERT_TRUE(ros::service::call(ros::names::resolve("segmentation/calibrate"), srv));
+    ASSERT_TRUE(srv.response.success) << srv.response.message;
+    const sv::ColorTable quads = sv::ColorTable::load(dir_ + "/bayer_quads.svct");
+    const auto& orange = quads.statistics().classes[static_cast<int>(sv::ColorClass::Orange)];
+    EXPECT_EQ(orange.samples, 64u * 64u);
+    EXPECT_LT(orange.var_h, 2.0) << "hue variance of the samples: a demosaic's spread";
+    EXPECT_EQ(quads.classify(30, 100, 200), sv::ColorClass::Orange);
+  }
   // Back to the table without yellow, which the next test expects.
   ASSERT_TRUE(calibrate(sv::toYaml(samples(false)), false, "").success);
 }

@@ -12,9 +12,10 @@ namespace soccer_vision {
 // encoding is not Bayer.
 int bayerToBgrCode(const std::string& encoding);
 
-// An image of a ROS encoding as BGR at full resolution, as a camera shows it (what colour
-// calibration and the field-line fit work on): bgr8 shared, rgb8 swapped, an 8-bit Bayer
-// mosaic demosaiced. Throws std::invalid_argument for any other encoding.
+// An image of a ROS encoding as BGR at full resolution, as a camera shows it (what a person
+// paints samples on and the field-line fit works on; colour calibration itself reads the
+// classifier's colours, classifiedColors): bgr8 shared, rgb8 swapped, an 8-bit Bayer mosaic
+// demosaiced. Throws std::invalid_argument for any other encoding.
 cv::Mat bgrOfEncoding(const cv::Mat& image, const std::string& encoding);
 
 }  // namespace soccer_vision
