@@ -5,7 +5,8 @@
 // offline evaluation runs). A benchmark, not a test.
 //
 //   rosrun soccer_vision bench_pipeline [--scenario NAME|FILE.yaml] [--frames N] [--cameras C]
-//       [--width W --height H] [--cold] [--repeat R] [--ssl] [--json FILE]
+//       [--width W --height H] [--cold] [--repeat R] [--ssl] [--sweep true|false]
+//       [--ball-streaks true|false] [--json FILE]
 //
 // Frames of synthetic camera 0 (--cameras C: cameras 0..C-1 of the scenario's layout) are
 // rendered first (not timed), with the scenario's pattern and a colour table calibrated like
@@ -69,6 +70,7 @@ struct Options {
   int repeat = 1;
   bool ssl = false;
   bool sweep = true;
+  bool ball_streaks = true;
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -89,6 +91,9 @@ void addOptions(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_option("--sweep", o.sweep,
                  "the periodic global search as a sweep of stripes (false: the whole frame every 30 frames)")
+      ->capture_default_str();
+  app.add_option("--ball-streaks", o.ball_streaks,
+                 "the ball's streak table in its window (false: the colour table there too)")
       ->capture_default_str();
   app.add_flag("--ssl", o.ssl,
                "also build each frame's SSL detection and tracked packets and send them to 127.0.0.1");
@@ -203,6 +208,7 @@ int main(int argc, char** argv) {
     for (int pass = 0; pass < o.repeat; ++pass) {
       sv::VisionPipelineParams params;
       params.search.sweep = o.sweep;
+      params.segmentation.ball_streaks = o.ball_streaks;
       sv::VisionPipeline pipeline(cameras, patterns, field, params);
       sv::ssl::KickedBallEstimator kicks;
       std::vector<double> totals;
