@@ -548,8 +548,7 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
       window_cap_hits_ += result_.cap_hits[c];
     }
     if (!result_.global_search) ++windowed_frames_;
-    if (segmenter_.params().ball_streaks && m->streak_classifier && !windows.ball_streak.empty())
-      ++streak_frames_;
+    if (result_.streak_windows) ++streak_frames_;
     streak_regions_ += result_.streak_regions;
     if (result_.illumination_size_mismatch) ++illumination_mismatch_;
   }

@@ -106,14 +106,15 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
 
   // No plan yet: the first frame is searched whole; a plan for a much older stamp is stale.
   const bool stale = state.next && stamp - state.next->stamp > kWindowMaxAge;
+  const bool planned = state.next && !stale;
   static const std::vector<cv::Rect> kNone;  // of windows: the whole frame
-  const std::vector<cv::Rect>& windows = state.next && !stale ? state.next->rects : kNone;
+  const std::vector<cv::Rect>& windows = planned ? state.next->rects : kNone;
   frame.search_reason = !state.next ? GlobalSearchReason::First
                         : stale && state.next->reason == GlobalSearchReason::None
                             ? GlobalSearchReason::AfterReset
                             : state.next->reason;
 
-  const std::vector<cv::Rect>& streak_windows = state.next && !stale ? state.next->ball_streak_rects : kNone;
+  const std::vector<cv::Rect>& streak_windows = planned ? state.next->ball_streak_rects : kNone;
 
   const auto t0 = Clock::now();
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_, streak_windows);

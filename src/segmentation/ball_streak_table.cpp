@@ -79,7 +79,6 @@ std::optional<ColorTable> ballStreakTable(const ColorTable& table, const BallStr
       mixtureLine(ball_rgb, carpet_rgb, params.min_ball_share, params.gamma, true)};
 
   const ColorTableParams& q = table.params();
-  const double wh = 360.0 / q.h_bins, ws = 1.0 / q.s_bins, wv = 256.0 / q.v_bins;
   std::vector<std::pair<std::size_t, ColorClass>> cells;
   cells.reserve(table.cells().size());
   for (int h = 0; h < q.h_bins; ++h) {
@@ -91,14 +90,10 @@ std::optional<ColorTable> ballStreakTable(const ColorTable& table, const BallStr
         // The carpet keeps its cells (its texture must not turn orange). A robot marker
         // colour does not: its Gaussian reaches the streak's colours (yellow takes a 60 %
         // mixture), and a marker that reads as the streak in a ball window is a cluster on
-        // a robot's top, which ball detection refuses. Claimed: the cell's centre or a point
-        // a quarter cell inside one of its corners (as generalisation probes) near either
-        // mixture line.
-        for (int k = 0; k < 9 && !streak && held != ColorClass::Carpet; ++k) {
-          const double oh = k == 0 ? 0.5 : (k & 1) ? 0.25 : 0.75;
-          const double os = k == 0 ? 0.5 : (k & 2) ? 0.25 : 0.75;
-          const double ov = k == 0 ? 0.5 : (k & 4) ? 0.25 : 0.75;
-          const auto bgr = hsvToBgr({(h + oh) * wh, (s + os) * ws, std::min((v + ov) * wv, 255.0)});
+        // a robot's top, which ball detection refuses. Claimed: a probe of the cell (as
+        // generalisation probes it) near either mixture line.
+        for (int k = 0; k < kCellProbes && !streak && held != ColorClass::Carpet; ++k) {
+          const auto bgr = hsvToBgr(cellProbe(q, h, s, v, k));
           const Rgb p(bgr[2], bgr[1], bgr[0]);
           streak = distanceToLine(p, lines[0]) <= reach || distanceToLine(p, lines[1]) <= reach;
         }

@@ -361,23 +361,16 @@ struct ClassModel {
   }
 };
 
-// The colours of every cell at which generalisation tests the classes: its centre and 8
-// points a quarter cell inside its corners, so a cell the Gaussian reaches into is found
-// although its centre lies outside.
-constexpr int kCellProbes = 9;
+// The colours of every cell at which generalisation tests the classes (cellProbe).
 std::vector<Lab> cellProbeColors(const ColorTableParams& params) {
   const int hb = params.h_bins, sb = params.s_bins, vb = params.v_bins;
-  const double wh = 360.0 / hb, ws = 1.0 / sb, wv = 256.0 / vb;
   std::vector<Lab> probes;
   probes.reserve(static_cast<std::size_t>(hb) * sb * vb * kCellProbes);
   for (int h = 0; h < hb; ++h) {
     for (int s = 0; s < sb; ++s) {
       for (int v = 0; v < vb; ++v) {
         for (int k = 0; k < kCellProbes; ++k) {
-          const double oh = k == 0 ? 0.5 : (k & 1) ? 0.25 : 0.75;
-          const double os = k == 0 ? 0.5 : (k & 2) ? 0.25 : 0.75;
-          const double ov = k == 0 ? 0.5 : (k & 4) ? 0.25 : 0.75;
-          const auto bgr = hsvToBgr({(h + oh) * wh, (s + os) * ws, std::min((v + ov) * wv, 255.0)});
+          const auto bgr = hsvToBgr(cellProbe(params, h, s, v, k));
           probes.push_back(bgrToLab(bgr[0], bgr[1], bgr[2]));
         }
       }
@@ -617,6 +610,14 @@ void ColorTableParams::validate() const {
     if (c == ColorClass::None || c >= ColorClass::Count) fail("override for an invalid class");
     check(t, std::string(colorClassName(c)));
   }
+}
+
+Hsv cellProbe(const ColorTableParams& params, int h_bin, int s_bin, int v_bin, int k) {
+  const double oh = k == 0 ? 0.5 : (k & 1) ? 0.25 : 0.75;
+  const double os = k == 0 ? 0.5 : (k & 2) ? 0.25 : 0.75;
+  const double ov = k == 0 ? 0.5 : (k & 4) ? 0.25 : 0.75;
+  const double wh = 360.0 / params.h_bins, ws = 1.0 / params.s_bins, wv = 256.0 / params.v_bins;
+  return {(h_bin + oh) * wh, (s_bin + os) * ws, std::min((v_bin + ov) * wv, 255.0)};
 }
 
 int ColorTable::hBin(double h) const {

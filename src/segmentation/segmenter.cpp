@@ -33,6 +33,21 @@ void toImageCoordinates(Region& r) {
   r.bbox = cv::Rect(r.bbox.x * 2, r.bbox.y * 2, r.bbox.width * 2, r.bbox.height * 2);
 }
 
+// `windows` clipped to the image, those left empty dropped, into `rects` (image pixels) and
+// `label_rects` (label coordinates).
+void clipWindows(const std::vector<cv::Rect>& windows, cv::Size image, PixelLayout layout,
+                 std::vector<cv::Rect>& rects, std::vector<cv::Rect>& label_rects) {
+  const cv::Rect image_rect(0, 0, image.width, image.height);
+  rects.clear();
+  label_rects.clear();
+  for (const cv::Rect& w : windows) {
+    const cv::Rect clipped = w & image_rect;
+    if (clipped.empty()) continue;
+    rects.push_back(clipped);
+    label_rects.push_back(toLabelRect(clipped, layout));
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<const SegmentationModel> SegmentationModel::fromTable(std::shared_ptr<const ColorTable> table,
@@ -71,53 +86,33 @@ RegionParams labelParams(const RegionParams& p, int label_width) {
 
 RegionParams quadLabelParams(const RegionParams& p) { return labelParams(p, kRegionParamsWidth / 2); }
 
-namespace {
-// The streak pass extracts orange only.
-RegionParams orangeOnly(RegionParams p) {
-  p.classes = classBit(ColorClass::Orange);
-  return p;
-}
-}  // namespace
-
-Segmenter::Segmenter(const SegmentationParams& params)
-    : params_(params), extractor_(params.regions), streak_extractor_(orangeOnly(params.regions)) {}
+Segmenter::Segmenter(const SegmentationParams& params) : params_(params) {}
 
 void Segmenter::setParams(const SegmentationParams& params) {
   params_ = params;
-  extractor_ = RegionExtractor(params.regions);
-  extractor_width_ = -1;
-  streak_extractor_ = RegionExtractor(orangeOnly(params.regions));
-  streak_extractor_width_ = -1;
+  extractor_.width = streak_extractor_.width = -1;  // remade with these parameters at first use
 }
 
-RegionExtractor& Segmenter::extractorFor(int label_width) {
-  if (label_width != extractor_width_) {
-    extractor_ = RegionExtractor(labelParams(params_.regions, label_width));
-    extractor_width_ = label_width;
+RegionExtractor& Segmenter::extractorFor(SizedExtractor& e, int label_width, ClassMask classes) {
+  if (label_width != e.width) {
+    RegionParams p = labelParams(params_.regions, label_width);
+    p.classes = classes;
+    e.extractor = RegionExtractor(p);
+    e.width = label_width;
   }
-  return extractor_;
+  return e.extractor;
 }
 
 void Segmenter::findBallStreaks(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
                                 const std::vector<cv::Rect>& streak_windows, SegmentationResult& out) {
-  const cv::Rect image_rect(0, 0, image.cols, image.rows);
   std::vector<cv::Rect> rects, label_rects;
-  for (const cv::Rect& w : streak_windows) {
-    const cv::Rect clipped = w & image_rect;
-    if (clipped.empty()) continue;
-    rects.push_back(clipped);
-    label_rects.push_back(toLabelRect(clipped, layout));
-  }
+  clipWindows(streak_windows, image.size(), layout, rects, label_rects);
   if (rects.empty()) return;
-  const int label_width = labelSize(image.size(), layout).width;
-  if (label_width != streak_extractor_width_) {
-    streak_extractor_ = RegionExtractor(orangeOnly(labelParams(params_.regions, label_width)));
-    streak_extractor_width_ = label_width;
-  }
   const FrameClassifier frame(*model.streak_classifier, image, layout, out.offsets, params_.sharpen);
   std::vector<Region> streaks;
   RegionStatistics stats;
-  streak_extractor_.extract(frame, label_rects, streaks, stats);
+  extractorFor(streak_extractor_, labelSize(image.size(), layout).width, classBit(ColorClass::Orange))
+      .extract(frame, label_rects, streaks, stats);
   if (isBayer(layout)) {
     for (auto& r : streaks) toImageCoordinates(r);
   }
@@ -134,9 +129,11 @@ void Segmenter::findBallStreaks(const SegmentationModel& model, const cv::Mat& i
                      [&](const Region& r) { return r.color == ColorClass::Orange && inStreakWindow(r); }),
       out.regions.end());
   for (Region& r : streaks) {
-    if (inStreakWindow(r)) out.regions.push_back(std::move(r));
+    if (!inStreakWindow(r)) continue;
+    out.regions.push_back(std::move(r));
+    ++out.streak_regions;
   }
-  out.streak_regions = static_cast<std::uint32_t>(streaks.size());
+  out.streak_windows = static_cast<std::uint32_t>(rects.size());
   out.timings.classification_ms += stats.classify_ms;
   out.timings.morphology_ms += stats.morphology_ms;
   out.timings.regions_ms += stats.regions_ms;
@@ -146,15 +143,8 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
                         const std::vector<cv::Rect>& windows, SegmentationResult& out,
                         const std::vector<cv::Rect>& streak_windows) {
   const auto start = std::chrono::steady_clock::now();
-  const cv::Rect image_rect(0, 0, image.cols, image.rows);
-  out.windows.clear();
   std::vector<cv::Rect> label_windows;
-  for (const auto& w : windows) {
-    const cv::Rect clipped = w & image_rect;
-    if (clipped.empty()) continue;
-    out.windows.push_back(clipped);
-    label_windows.push_back(toLabelRect(clipped, layout));
-  }
+  clipWindows(windows, image.size(), layout, out.windows, label_windows);
   // Windows that all fall outside the image leave nothing to search; a global search is
   // only what the caller asked for with no windows at all.
   out.global_search = windows.empty();
@@ -169,7 +159,8 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   RegionStatistics stats;
   out.regions.clear();
   if (out.global_search || !label_windows.empty()) {
-    extractorFor(labelSize(image.size(), layout).width).extract(frame, label_windows, out.regions, stats);
+    extractorFor(extractor_, labelSize(image.size(), layout).width, params_.regions.classes)
+        .extract(frame, label_windows, out.regions, stats);
   }
   if (isBayer(layout)) {
     for (auto& r : out.regions) toImageCoordinates(r);
@@ -180,7 +171,7 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   out.timings.classification_ms = stats.classify_ms;
   out.timings.morphology_ms = stats.morphology_ms;
   out.timings.regions_ms = stats.regions_ms;
-  out.streak_regions = 0;
+  out.streak_windows = out.streak_regions = 0;
   if (params_.ball_streaks && model.streak_classifier)
     findBallStreaks(model, image, layout, streak_windows, out);
   out.timings.total_ms = msSince(start);

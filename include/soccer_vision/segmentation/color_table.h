@@ -143,6 +143,13 @@ struct ColorTableParams {
   void validate() const;
 };
 
+// The colours at which a cell (h_bin, s_bin, v_bin) is tested for a class body reaching
+// into it (generalisation, the ball's streak table): k = 0 its centre, k = 1..8 points a
+// quarter cell inside its corners, so a cell a body reaches into is found although its
+// centre lies outside.
+constexpr int kCellProbes = 9;
+Hsv cellProbe(const ColorTableParams& params, int h_bin, int s_bin, int v_bin, int k);
+
 // What construction saw and decided for one class (all zero for a class without samples).
 struct ClassStatistics {
   std::uint32_t samples = 0;

@@ -66,6 +66,7 @@ struct SegmentationResult {
   BlockOffsets offsets;                     // the illumination adjustment the frame was classified with
   std::uint32_t grid_points = 0;            // label pixels looked up by the grid scan
   std::uint32_t classified_pixels = 0;      // label pixels classified around the hits
+  std::uint32_t streak_windows = 0;         // streak windows searched with the streak table
   std::uint32_t streak_regions = 0;         // orange regions of the streak windows from the streak table
   SegmentationTimings timings;
 };
@@ -100,11 +101,15 @@ class Segmenter {
 
  private:
   SegmentationParams params_;
-  RegionExtractor& extractorFor(int label_width);  // labelParams for this label width
-  RegionExtractor extractor_;
-  int extractor_width_ = -1;          // label width extractor_ was made for (-1: params_.regions as given)
-  RegionExtractor streak_extractor_;  // orange only, for the streak windows
-  int streak_extractor_width_ = -1;
+  // A region extractor of labelParams for the label width it was last made for.
+  struct SizedExtractor {
+    RegionExtractor extractor;
+    int width = -1;  // -1: not made yet
+  };
+  // `e`, remade for `classes` when the label width differs from the one it was made for.
+  RegionExtractor& extractorFor(SizedExtractor& e, int label_width, ClassMask classes);
+  SizedExtractor extractor_;         // the marker classes of params_.regions
+  SizedExtractor streak_extractor_;  // orange only, for the streak windows
   // Orange regions of the streak windows from the streak table, replacing the colour
   // table's there.
   void findBallStreaks(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
