@@ -1,9 +1,12 @@
-"""The soak run of scripts/soak: the whole system on the synthetic field (demo.launch, two
-cameras at 60 Hz, one nodelet manager) for N minutes, on a private ROS master at
-127.0.0.1. Every few seconds it samples the manager's resident memory and CPU time
-(/proc) and the nodelets' /diagnostics (frames published, processed and dropped). At the
-end it prints the memory slope (least squares after a warm-up) and fails on growth beyond
-the noise, on dropped frames, or when the manager died."""
+"""The soak run of scripts/soak: the whole system on the synthetic field (demo.launch, by
+default two cameras at 60 Hz, one nodelet manager) for N minutes, on a private ROS master
+at 127.0.0.1. Every few seconds it samples the manager's resident memory and CPU time
+(/proc) and the nodelets' /diagnostics (frames published, processed and dropped, the
+tracker's latency from capture to output). At the end it prints the memory slope (least
+squares after a warm-up) and fails on growth beyond the noise, on dropped frames, or when
+the manager died. With --replay-frames the cameras render that many frames once and show
+them forth and back: the live system at rates the renderer cannot reach (Division A's
+2 x 2448x2048 at 75 Hz, docs/performance.md)."""
 import argparse
 import os
 import re
@@ -18,6 +21,23 @@ def free_port():
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def scenario_launch_args(scenario):
+    """demo.launch's arguments for a scenario preset (name or YAML path): its pattern, field
+    and measurement offset, as scripts/demo sets them."""
+    if not scenario:
+        return []
+    import yaml
+
+    path = scenario if scenario.endswith(".yaml") else os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "..", "config", "scenarios", scenario + ".yaml")
+    with open(path) as f:
+        s = yaml.safe_load(f) or {}
+    sensor = s.get("sensor") or {}
+    offset = sensor.get("exposure", 0.004) / 2 if sensor.get("blur_samples", 1) > 1 else 0
+    return [f"scenario:={scenario}", f"pattern:={s.get('pattern', 'two_tag')}", f"field:={s.get('field', 'div_b')}",
+            f"measurement_offset:={offset:g}"]
 
 
 def manager_pid(name):
@@ -66,12 +86,26 @@ class Diagnostics:
         from diagnostic_msgs.msg import DiagnosticArray
 
         self.values = {}
+        self.latency_windows = []  # (p50, p99) [ms] of each of the tracker's diagnostics windows
+        self.publish_windows = []  # (p50, p99) [ms] capture -> publish of each camera's windows
+        self.udp_windows = []  # (p50, p99) [ms] capture -> tracked SSL packet sent
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.callback, queue_size=50)
 
     def callback(self, msg):
         for st in msg.status:
+            window = {}
             for kv in st.values:
                 self.values[(st.name, kv.key)] = kv.value
+                if kv.key in ("latency p50 [ms]", "latency p99 [ms]", "rate [Hz]"):
+                    window[kv.key] = float(kv.value)
+                if kv.key.startswith("capture -> ") and kv.key.endswith(" [ms]"):
+                    window[kv.key] = float(kv.value)
+            if len(window) == 3 and window["rate [Hz]"] > 0:
+                self.latency_windows.append((window["latency p50 [ms]"], window["latency p99 [ms]"]))
+            for what, windows in (("publish", self.publish_windows), ("tracked packet sent", self.udp_windows)):
+                p50, p99 = window.get(f"capture -> {what} p50 [ms]"), window.get(f"capture -> {what} p99 [ms]")
+                if p50 is not None and p99 is not None and p50 == p50:  # NaN: no frame in the window
+                    windows.append((p50, p99))
 
     def counters(self, key_pattern):
         """{(status name, key): value} of the integer counters whose key matches."""
@@ -101,6 +135,16 @@ def main():
                         help="[s] left out of the memory slope at the start (default: a fifth of the run)")
     parser.add_argument("--max-dropped-share", type=float, default=0.0,
                         help="share of the published frames the vision system may drop (default 0)")
+    parser.add_argument("--scenario", default="", help="scenario preset of demo.launch (default: the embedded one)")
+    parser.add_argument("--cameras", type=int, default=2, help="cameras of the scenario (1..8, default 2)")
+    parser.add_argument("--fps", type=float, default=60.0, help="[Hz] frame rate of every camera (default 60)")
+    parser.add_argument("--replay-frames", type=int, default=0,
+                        help="each camera renders this many frames once and shows them forth and back (default 0: "
+                             "rendered live)")
+    parser.add_argument("--ssl", action="store_true",
+                        help="also send the SSL packets (to 127.0.0.1) and report capture -> tracked packet sent")
+    parser.add_argument("--startup", type=float, default=15.0,
+                        help="[s] after the first frames before counting (colour tables, first tracks; default 15)")
     parser.add_argument("--gtest_output", default="",
                         help="xml:FILE: also write the outcome as a JUnit file (as a test under catkin)")
     a = parser.parse_args()
@@ -108,6 +152,9 @@ def main():
         parser.error("--minutes must be 0.5..600, --interval 1..60, --max-slope and --max-growth >= 0")
     if a.warmup > 0.8 * a.minutes * 60 or not 0 <= a.max_dropped_share <= 1:
         parser.error("--warmup must leave a fifth of the run, --max-dropped-share be 0..1")
+    if not 1 <= a.cameras <= 8 or not 0 < a.fps <= 1000 or a.replay_frames < 0 or a.replay_frames == 1 \
+            or not 0 <= a.startup <= 600:
+        parser.error("--cameras must be 1..8, --fps 0..1000, --replay-frames 0 or >= 2, --startup 0..600")
 
     port = free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1")
@@ -116,8 +163,9 @@ def main():
     os.environ.pop("ROS_HOSTNAME", None)
     manager = f"soak_manager_{port}"
     launch = subprocess.Popen(
-        ["roslaunch", "-p", str(port), "soccer_vision", "demo.launch", "cameras:=2", "fps:=60",
-         f"manager:={manager}", f"table_dir:=/tmp/soccer_vision_soak_{port}"],
+        ["roslaunch", "-p", str(port), "soccer_vision", "demo.launch", f"cameras:={a.cameras}", f"fps:={a.fps:g}",
+         f"replay_frames:={a.replay_frames}", f"manager:={manager}", f"table_dir:=/tmp/soccer_vision_soak_{port}"]
+        + scenario_launch_args(a.scenario) + (["ssl_output:=true", "ssl_address:=127.0.0.1"] if a.ssl else []),
         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT, start_new_session=True)
     try:
         failures = run(a, manager, launch)
@@ -157,8 +205,14 @@ def run(a, manager, launch):
         return ["the nodelet manager did not start"]
     rospy.init_node("soak_monitor", anonymous=True, disable_signals=True)
     diag = Diagnostics()
-    # Start-up: colour tables, first frames, the tracker's first tracks.
-    time.sleep(15)
+    # Start-up: colour tables, the replay's frames, first frames, the tracker's first tracks.
+    deadline = time.time() + 300 + a.replay_frames * a.cameras * 0.5
+    while diag.total(r"^frames processed$") == 0:
+        if time.time() > deadline or launch.poll() is not None or not os.path.exists(f"/proc/{pid}"):
+            print("soak: FAILED, no frame was processed", file=sys.stderr)
+            return ["no frame was processed"]
+        time.sleep(1)
+    time.sleep(a.startup)
     start = time.time()
     start_cpu = cpu_seconds(pid)
     start_published = diag.total(r"^frames published$")
@@ -169,8 +223,13 @@ def run(a, manager, launch):
     start_drop_counters = diag.counters(vision_drops)
     start_dropped = sum(start_drop_counters.values())
     start_missed = diag.total(r"^frames dropped by the source$")
+    start_windows = len(diag.latency_windows)
+    start_publish_windows = len(diag.publish_windows)
+    start_udp_windows = len(diag.udp_windows)
     ts, rss = [], []
-    print(f"soak: {a.minutes:g} min, manager pid {pid}, sampling every {a.interval:g} s")
+    print(f"soak: {a.minutes:g} min, {a.cameras} cameras at {a.fps:g} Hz"
+          f"{f', {a.replay_frames} frames replayed' if a.replay_frames else ''}, manager pid {pid}, "
+          f"sampling every {a.interval:g} s")
     while time.time() - start < a.minutes * 60:
         time.sleep(a.interval)
         if not os.path.exists(f"/proc/{pid}"):
@@ -192,8 +251,18 @@ def run(a, manager, launch):
     print(f"soak: manager RSS {rss[first]:.1f} -> {rss[-1]:.1f} MB, slope {slope:+.2f} MB/h "
           f"(residual noise {noise:.2f} MB), CPU {cpu:.0f} % of one core")
     print(f"soak: frames published {published}, processed {processed}, dropped by the vision system "
-          f"{dropped}; missed by the synthetic source (rendering behind time) {missed} "
+          f"{dropped}; missed by the synthetic cameras (behind time) {missed} "
           f"({processed / elapsed:.1f} Hz processed over both cameras)")
+    for what, all_windows, start_index in (("capture -> tracked output", diag.latency_windows, start_windows),
+                                           ("capture -> image published", diag.publish_windows,
+                                            start_publish_windows),
+                                           ("capture -> tracked SSL packet sent", diag.udp_windows,
+                                            start_udp_windows)):
+        windows = sorted(all_windows[start_index:], key=lambda w: w[1])
+        if windows:
+            median = windows[len(windows) // 2]
+            print(f"soak: latency {what} over {len(windows)} diagnostics windows: p50 {median[0]:.2f} ms, "
+                  f"p99 {median[1]:.2f} ms in the median window, p99 {windows[-1][1]:.2f} ms in the worst")
     # Nothing is dropped silently: every counter that rose, with its nodelet and cause.
     for (name, key), value in sorted(diag.counters(vision_drops).items()):
         rise = value - start_drop_counters.get((name, key), 0)

@@ -35,7 +35,9 @@
 #include "soccer_vision/RobotPose.h"
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/common/angle.h"
+#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/ros/conversions.h"
+#include "soccer_vision/ros/image_pool.h"
 #include "soccer_vision/ros/package_paths.h"
 #include "soccer_vision/ros/transforms.h"
 #include "soccer_vision/sources/frame_source.h"
@@ -45,9 +47,9 @@ namespace soccer_vision {
 namespace {
 
 // Parameters passed to the sources as FrameSourceOptions::settings (strings).
-constexpr const char* kSettingNames[] = {"device",      "file",     "path",         "loop",
-                                         "realtime",    "encoding", "pixel_format", "camera",
-                                         "packet_size", "buffers",  "stamp_delay",  "frame_timeout"};
+constexpr const char* kSettingNames[] = {
+    "device", "file",        "path",    "loop",        "realtime",      "encoding",     "pixel_format",
+    "camera", "packet_size", "buffers", "stamp_delay", "frame_timeout", "replay_frames"};
 
 std::string settingText(XmlRpc::XmlRpcValue& v) {
   switch (v.getType()) {
@@ -122,6 +124,9 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   std::vector<std::string> source_warnings_;
   std::uint64_t frames_published_ = 0;
   std::uint64_t frames_missing_ = 0;  // gaps in the source sequence
+  // [ms] from each frame's capture stamp to its publication, since the last diagnostics: the
+  // source's share of the tracker's capture -> output latency (transfer, conversion, copy).
+  std::vector<double> publish_delays_ms_;
   std::string encoding_;
   int width_ = 0, height_ = 0;
   std::string calibration_problem_;                // why camera_info is not from camera_info_url
@@ -130,6 +135,7 @@ class CameraDriverNodelet : public nodelet::Nodelet {
   bool was_open_ = false;                          // capture thread: opened at least once
   bool source_failing_ = false;                    // grabs failing (diagnostics)
   static constexpr double kReminderPeriod = 60.0;  // [s]
+  ImagePool image_pool_{6};                        // capture thread: published images back once released
   ros::WallTime next_reminder_;                    // capture thread
 
   std::thread thread_;
@@ -358,13 +364,12 @@ void CameraDriverNodelet::captureLoop() {
     }
 
     const FrameFormat f = source_->format();
-    sensor_msgs::ImagePtr image = boost::make_shared<sensor_msgs::Image>();
+    sensor_msgs::ImagePtr image = image_pool_.acquire(f.bytes());
     image->height = static_cast<uint32_t>(f.height);
     image->width = static_cast<uint32_t>(f.width);
     image->encoding = f.encoding;
     image->is_bigendian = 0;
     image->step = static_cast<uint32_t>(f.step);
-    image->data.resize(f.bytes());
     cv::Mat wrapped(f.height, f.width, f.cv_type, image->data.data(), f.step);
 
     FrameInfo info;
@@ -432,10 +437,12 @@ void CameraDriverNodelet::publishFrame(const sensor_msgs::ImagePtr& image, const
     address_pub_.publish(report);
   }
   camera_pub_.publish(image, camera_info);  // neither is touched after this
+  const double publish_delay_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
   image_diag_->tick(header.stamp);
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     ++frames_published_;
+    publish_delays_ms_.push_back(publish_delay_ms);
   }
   if (info.ground_truth) publishGroundTruth(header, info);
   // Re-sent: another static broadcaster of this process may replace the latched message.
@@ -566,6 +573,9 @@ void CameraDriverNodelet::sourceDiagnostics(diagnostic_updater::DiagnosticStatus
   stat.add("target fps", min_freq_);
   stat.add("frames published", frames_published_);
   stat.add("frames dropped by the source", frames_missing_);
+  stat.add("capture -> publish p50 [ms]", percentile(publish_delays_ms_, 50));
+  stat.add("capture -> publish p99 [ms]", percentile(publish_delays_ms_, 99));
+  publish_delays_ms_.clear();
   if (!source_error_.empty()) stat.add("last error", source_error_);
   for (const std::string& w : source_warnings_) stat.add("warning", w);
   if (source_)

@@ -26,6 +26,7 @@
 #include "soccer_vision/RobotPoseArray.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/common/statistics.h"
 #include "soccer_vision/ros/conversions.h"
 #include "soccer_vision/ros/detection_conversions.h"
 #include "soccer_vision/ros/tracking_conversions.h"
@@ -95,6 +96,7 @@ class SslOutputNodelet : public nodelet::Nodelet {
   double last_tracked_stamp_ = -1;
   std::uint32_t tracked_frame_number_ = 0;
   std::uint64_t detection_packets_ = 0, geometry_packets_ = 0, tracked_packets_ = 0;
+  std::vector<double> tracked_delays_ms_;  // capture stamp -> tracked packet sent, since the last diagnostics
   std::uint64_t send_errors_ = 0, log_errors_ = 0, unpaired_outputs_ = 0;
   std::string last_send_error_;
 };
@@ -261,7 +263,10 @@ void SslOutputNodelet::sendTrackedIfPaired() {
   const auto& kick = kicks_.update(out);
   const std::string payload =
       ssl::trackedPacket(out, tracked_frame_number_++, kick, tracked_options_).SerializeAsString();
-  if (send(tracked_sender_.get(), ssl::LogMessageType::VisionTracker2020, payload)) ++tracked_packets_;
+  if (send(tracked_sender_.get(), ssl::LogMessageType::VisionTracker2020, payload)) {
+    ++tracked_packets_;
+    tracked_delays_ms_.push_back((ros::Time::now() - robots_->header.stamp).toSec() * 1e3);
+  }
 }
 
 const CameraModel* SslOutputNodelet::cameraModel(Camera& camera) {
@@ -303,6 +308,9 @@ void SslOutputNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& 
   stat.add("detection packets sent", detection_packets_);
   stat.add("geometry packets sent", geometry_packets_);
   stat.add("tracked packets sent", tracked_packets_);
+  stat.add("capture -> tracked packet sent p50 [ms]", percentile(tracked_delays_ms_, 50));
+  stat.add("capture -> tracked packet sent p99 [ms]", percentile(tracked_delays_ms_, 99));
+  tracked_delays_ms_.clear();
   stat.add("send errors", send_errors_);
   stat.add("last send error", last_send_error_);
   stat.add("log write errors", log_errors_);

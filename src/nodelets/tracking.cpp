@@ -319,16 +319,16 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
   robots_pub_.publish(robots);  // never touched after publishing
   balls_pub_.publish(balls);
   if (out.primaryBall()) ball_pub_.publish(boost::make_shared<BallPose>(balls->balls.front()));
+  // The tracked output is out: the markers and tf frames for rviz follow.
+  const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
   markers_pub_.publish(markers);
   bool tf_ok = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     tf_ok = publish_tf_ && tf_gate_.accept(header.stamp.toSec());
+    latencies_ms_.push_back(latency_ms);
   }
   if (tf_ok) publishTf(out, header.stamp);
-  const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
-  std::lock_guard<std::mutex> lock(mutex_);
-  latencies_ms_.push_back(latency_ms);
 }
 
 // The windows for this camera's next frame (mutex held).

@@ -9,6 +9,7 @@
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/game_simulator.h"
 #include "soccer_vision/simulation/scenario_camera.h"
+#include "soccer_vision/sources/source_settings.h"
 
 namespace soccer_vision {
 
@@ -126,6 +127,23 @@ OpenResult SyntheticSource::open(const FrameSourceOptions& options) {
     return result;
   }
   format_.step = static_cast<std::size_t>(scenario.width) * CV_ELEM_SIZE(format_.cv_type);
+
+  SettingsReader settings(options.settings);
+  const double replay_frames = settings.number("replay_frames", 0);
+  const double replay_bytes = replay_frames * static_cast<double>(format_.bytes());
+  if (!settings.ok() || !(replay_frames == 0 || replay_frames >= 2) ||
+      replay_frames != std::floor(replay_frames) || replay_bytes > static_cast<double>(kMaxReplayBytes)) {
+    sim_.reset();
+    renderer_.reset();
+    result.error = settings.ok()
+                       ? "replay_frames must be 0 (off) or a whole number >= 2 whose frames fit in " +
+                             std::to_string(kMaxReplayBytes >> 20) + " MiB (" +
+                             std::to_string(format_.bytes() >> 20) + " MiB each)"
+                       : settings.error();
+    return result;
+  }
+  replay_frames_ = static_cast<std::int64_t>(replay_frames);
+  replay_.clear();
 
   base_stamp_ = options.epoch > 0 ? options.epoch : systemNow();
   base_scene_time_ = 0;
@@ -272,6 +290,7 @@ bool SyntheticSource::applyPending(std::string& error) {
       // Nothing shown yet: the first frame is re-planned on the new time grid.
       started_ = false;
     }
+    replay_.clear();  // rendered at the old rate
     std::lock_guard<std::mutex> lock(mutex_);
     period_ = period;
     scenario_.fps = *fps;
@@ -286,6 +305,7 @@ bool SyntheticSource::applyPending(std::string& error) {
         return false;
       }
       renderer_ = std::move(renderer);
+      replay_.clear();  // rendered with the old settings
       std::lock_guard<std::mutex> lock(mutex_);
       scenario_ = *scenario;
     } catch (const std::exception& e) {
@@ -324,11 +344,26 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
 
   const double deadline = systemNow() + std::max(0.0, timeout_s);
   double due = 0;
+  // Replay: the frame is copied in just before its capture time, as a camera's DMA has it in
+  // memory by then without taking the processor from the previous frame's processing;
+  // again only if frames are skipped after the wait.
+  std::int64_t copied = -1;
+  const auto copyReplay = [&](std::int64_t index) {
+    if (copied == index) return;
+    const double start = systemNow();
+    replayFrame(index).image.copyTo(image);  // same size and type: into the caller's buffer
+    copied = index;
+    replay_lead_ = std::max(0.9 * replay_lead_, 1.5 * (systemNow() - start) + 0.5e-3);
+  };
   for (;;) {
     std::string settings_error;
     if (!applyPending(settings_error)) {
       error = settings_error;
       return GrabStatus::Error;
+    }
+    if (replay_frames_ > 0 && replay_.empty()) {
+      // Before the first frame is planned: rendering them is not a camera falling behind.
+      if (!renderReplay(error)) return error.empty() ? GrabStatus::Interrupted : GrabStatus::Error;
     }
     if (!started_) {
       // First frame: the first capture time on the grid at or after now.
@@ -337,6 +372,11 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
       started_ = true;
     }
     due = base_stamp_ + static_cast<double>(next_n_) * period_;
+    if (!replay_.empty() && copied != base_index_ + next_n_) {
+      if (!waitUntil(std::min(due - replay_lead_, deadline))) return GrabStatus::Interrupted;
+      if (systemNow() < due - replay_lead_) return GrabStatus::Timeout;
+      copyReplay(base_index_ + next_n_);
+    }
     const double wake_at = std::min(due, deadline);
     if (!waitUntil(wake_at)) return GrabStatus::Interrupted;
     {
@@ -361,44 +401,103 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
     }
   }
 
-  // Advance the game in whole periods (identical sub-steps for every instance).
-  for (std::int64_t i = 0; sim_n_ < next_n_; ++sim_n_, ++i) {
-    if ((i & 1023) == 1023) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (interrupted_) return GrabStatus::Interrupted;
-    }
-    sim_->step(period_);
-  }
-
   const std::int64_t index = base_index_ + next_n_;
-  SceneState scene = sim_->state();
-  scene.time = base_scene_time_ + static_cast<double>(next_n_) * period_;
-
-  try {
-    RenderedFrame out;
-    out.image = image;  // shares the caller's buffer
-    renderer_->render(scene, index, out);
-    if (out.image.data != image.data) out.image.copyTo(image);  // renderer reallocated
-    info.encoding = out.encoding.empty() ? format_.encoding : out.encoding;
-  } catch (const std::exception& e) {
-    error = std::string("rendering failed: ") + e.what();
-    return GrabStatus::Error;
+  SceneState scene;
+  if (!replay_.empty()) {
+    copyReplay(index);
+    const ReplayFrame& frame = replayFrame(index);
+    info.encoding = frame.encoding;
+    scene = frame.scene;
+    if (replayBackwards(index)) {
+      for (RobotState& r : scene.robots) r.vx = -r.vx, r.vy = -r.vy, r.omega = -r.omega;
+      for (BallState& b : scene.balls) b.vx = -b.vx, b.vy = -b.vy, b.vz = -b.vz;
+    }
+    info.robot_visible = frame.robot_visible;
+    info.ball_visible = frame.ball_visible;
+  } else {
+    // Advance the game in whole periods (identical sub-steps for every instance).
+    for (std::int64_t i = 0; sim_n_ < next_n_; ++sim_n_, ++i) {
+      if ((i & 1023) == 1023) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (interrupted_) return GrabStatus::Interrupted;
+      }
+      sim_->step(period_);
+    }
+    scene = sim_->state();
+    scene.time = base_scene_time_ + static_cast<double>(next_n_) * period_;
+    try {
+      RenderedFrame out;
+      out.image = image;  // shares the caller's buffer
+      renderer_->render(scene, index, out);
+      if (out.image.data != image.data) out.image.copyTo(image);  // renderer reallocated
+      info.encoding = out.encoding.empty() ? format_.encoding : out.encoding;
+    } catch (const std::exception& e) {
+      error = std::string("rendering failed: ") + e.what();
+      return GrabStatus::Error;
+    }
+    info.robot_visible.resize(scene.robots.size());
+    for (std::size_t i = 0; i < scene.robots.size(); ++i)
+      info.robot_visible[i] = renderer_->robotVisible(scene.robots[i]);
+    info.ball_visible.resize(scene.balls.size());
+    for (std::size_t i = 0; i < scene.balls.size(); ++i)
+      info.ball_visible[i] = renderer_->ballVisible(scene.balls[i]);
   }
 
   info.stamp = due;
   info.sequence = static_cast<std::uint64_t>(index);
   last_stamp_ = due;
   last_scene_time_ = scene.time;
-  info.robot_visible.resize(scene.robots.size());
-  for (std::size_t i = 0; i < scene.robots.size(); ++i)
-    info.robot_visible[i] = renderer_->robotVisible(scene.robots[i]);
-  info.ball_visible.resize(scene.balls.size());
-  for (std::size_t i = 0; i < scene.balls.size(); ++i)
-    info.ball_visible[i] = renderer_->ballVisible(scene.balls[i]);
   info.ground_truth = std::move(scene);
   produced_ = true;
   ++next_n_;
   return GrabStatus::Ok;
+}
+
+// Forth and back over the rendered frames, by the absolute index: cameras sharing an epoch
+// show the same frame.
+bool SyntheticSource::replayBackwards(std::int64_t index) const {
+  const std::int64_t n = static_cast<std::int64_t>(replay_.size()), cycle = 2 * n - 2;
+  return ((index % cycle) + cycle) % cycle >= n;
+}
+
+const SyntheticSource::ReplayFrame& SyntheticSource::replayFrame(std::int64_t index) const {
+  const std::int64_t n = static_cast<std::int64_t>(replay_.size()), cycle = 2 * n - 2;
+  const std::int64_t m = ((index % cycle) + cycle) % cycle;
+  return replay_[static_cast<std::size_t>(m >= n ? cycle - m : m)];
+}
+
+bool SyntheticSource::renderReplay(std::string& error) {
+  ScenarioConfig scenario;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scenario = scenario_;
+  }
+  try {
+    GameSimulator sim(scenario, field_, patterns_.maxRobotsPerTeam());  // from the game's start
+    std::vector<ReplayFrame> frames(static_cast<std::size_t>(replay_frames_));
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (interrupted_) return false;
+      }
+      ReplayFrame& f = frames[i];
+      f.scene = sim.state();
+      f.scene.time = static_cast<double>(i) * period_;
+      RenderedFrame out;
+      out.image.create(format_.height, format_.width, format_.cv_type);
+      renderer_->render(f.scene, static_cast<std::int64_t>(i), out);
+      f.image = out.image;
+      f.encoding = out.encoding.empty() ? format_.encoding : out.encoding;
+      for (const RobotState& r : f.scene.robots) f.robot_visible.push_back(renderer_->robotVisible(r));
+      for (const BallState& b : f.scene.balls) f.ball_visible.push_back(renderer_->ballVisible(b));
+      sim.step(period_);
+    }
+    replay_ = std::move(frames);
+    return true;
+  } catch (const std::exception& e) {
+    error = std::string("rendering the replay failed: ") + e.what();
+    return false;
+  }
 }
 
 }  // namespace soccer_vision

@@ -178,27 +178,6 @@ TEST(FrameSourceRegistry, KnowsTheLiveAndFileSources) {
   EXPECT_EQ(v->name(), "video");
 }
 
-TEST(SyntheticSource, OpensTheCamerasOfItsScenariosLayout) {
-  std::string error;
-  auto source = sv::createFrameSource("synthetic", error);
-  ASSERT_TRUE(source) << error;
-  sv::FrameSourceOptions o;
-  o.scenario = std::string(SOCCER_VISION_SOURCE_DIR) + "/config/scenarios/div_a_four_cameras.yaml";
-  o.width = 320;
-  o.height = 256;
-  o.camera_index = 3;
-  const sv::OpenResult last = source->open(o);
-  EXPECT_TRUE(last.ok) << last.error;
-  source->close();
-  o.camera_index = 4;
-  const sv::OpenResult beyond = source->open(o);
-  EXPECT_FALSE(beyond.ok);
-  EXPECT_NE(beyond.error.find("has cameras 0..3, not 4"), std::string::npos) << beyond.error;
-  o.scenario.clear();  // the embedded default: Division B's two cameras
-  o.camera_index = 2;
-  EXPECT_FALSE(source->open(o).ok);
-}
-
 TEST(SettingsReader, ParsesAndReportsTheFirstBadValue) {
   const std::map<std::string, std::string> s = {
       {"a", "true"}, {"b", "0"}, {"n", "2.5"}, {"bad", "maybe"}, {"badn", "1x"}};
