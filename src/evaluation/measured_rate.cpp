@@ -10,7 +10,8 @@ MeasuredRateCounter::MeasuredRateCounter(RobotBody body, double match_distance)
 
 void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camera,
                               const std::vector<RobotDetection>& detections,
-                              const std::vector<Eigen::Vector2d>& marker_regions, int camera_id) {
+                              const std::vector<Eigen::Vector2d>& marker_regions, int camera_id,
+                              const std::vector<RejectedRobotCandidate>& rejected) {
   for (const RobotRecord& robot : truth.robots) {
     if (!robot.visible.value_or(false)) continue;
     // Whole in this camera's image: its top's rim projects inside (4 points suffice here).
@@ -37,9 +38,9 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
       count(&MeasuredRate::measured);
       continue;
     }
-    const auto miss = [&](std::int64_t MeasuredRate::*field, const char* cause) {
+    const auto miss = [&](std::int64_t MeasuredRate::*field, const char* cause, const char* rejection = "") {
       count(field);
-      misses_.push_back({truth.stamp, camera_id, robot.team, robot.id, cause, pixel});
+      misses_.push_back({truth.stamp, camera_id, robot.team, robot.id, cause, rejection, pixel});
     };
     if (near) {
       miss(&MeasuredRate::wrong_id, "wrong_id");
@@ -47,9 +48,21 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
     }
     bool segmented = false;
     for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - pixel).norm() <= radius_px;
-    if (segmented)
-      miss(&MeasuredRate::identification_rejected, "identification_rejected");
-    else
+    if (segmented) {
+      // The rejected team region nearest the top's centre, on the top.
+      const RejectedRobotCandidate* why = nullptr;
+      double nearest = radius_px;
+      for (const RejectedRobotCandidate& r : rejected) {
+        const double d = std::hypot(r.u - pixel.x(), r.v - pixel.y());
+        if (d <= nearest) nearest = d, why = &r;
+      }
+      if (why) {
+        total_.rejected_by_cause.add(why->cause);
+        own.rejected_by_cause.add(why->cause);
+      }
+      miss(&MeasuredRate::identification_rejected, "identification_rejected",
+           why ? rejectionCauseName(why->cause) : "");
+    } else
       miss(&MeasuredRate::nothing_segmented, "nothing_segmented");
   }
 }

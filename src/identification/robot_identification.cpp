@@ -474,7 +474,11 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
   }
   out.rejections.add(RejectionCause::Projection, m.unprojectableTeams());
   for (int t : m.teams()) {
-    if (!used[t]) out.rejections.add(had_valid[t] ? RejectionCause::Conflict : furthest[t]);
+    if (used[t]) continue;
+    const RejectionCause cause = had_valid[t] ? RejectionCause::Conflict : furthest[t];
+    out.rejections.add(cause);
+    const Region& r = regions[static_cast<std::size_t>(obs[t].region)];
+    out.rejected.push_back({r.cx, r.cy, cause});
   }
   out.region_confidence.assign(regions.size(), 0.0);
   for (const Hypothesis& h : accepted) {

@@ -75,6 +75,25 @@ TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
   EXPECT_STREQ(counter.misses()[2].cause, "nothing_segmented");
 }
 
+// A rejected team region on the robot's top says why the robot was not measured; one on
+// another robot's top does not.
+TEST_F(MeasuredRateTest, ARejectedTeamRegionOnTheTopGivesTheMissItsCause) {
+  FrameRecord truth;
+  truth.robots = {robotRecord(Team::Yellow, 2, -3.0, -1.0), robotRecord(Team::Blue, 5, -2.0, 1.0)};
+  const Eigen::Vector2d on_yellow = pixelOf(-3.0, -1.0, 0.02), near_blue = pixelOf(-2.0, 1.0, 0.03);
+  const Eigen::Vector2d elsewhere = pixelOf(-2.5, 1.0);
+  const std::vector<RejectedRobotCandidate> rejected = {{on_yellow.x(), on_yellow.y(), RejectionCause::Area},
+                                                        {elsewhere.x(), elsewhere.y(), RejectionCause::Gate}};
+  counter.add(truth, camera, {}, {on_yellow, near_blue}, 0, rejected);
+  ASSERT_EQ(counter.misses().size(), 2u);
+  EXPECT_STREQ(counter.misses()[0].rejection, "area");
+  EXPECT_STREQ(counter.misses()[1].cause, "identification_rejected");
+  EXPECT_STREQ(counter.misses()[1].rejection, "") << "the gate rejection is 0.5 m away, not on blue 5";
+  EXPECT_EQ(counter.total().rejected_by_cause[RejectionCause::Area], 1);
+  EXPECT_EQ(counter.total().rejected_by_cause.total(), 1);
+  EXPECT_EQ(counter.byRobot().at({Team::Yellow, 2}).rejected_by_cause[RejectionCause::Area], 1);
+}
+
 TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {
   FrameRecord truth;
   truth.robots = {robotRecord(Team::Blue, 0, -2.0, 0.0), robotRecord(Team::Yellow, 0, -2.0, 1.0)};

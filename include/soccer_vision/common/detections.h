@@ -31,6 +31,13 @@ struct BallDetection {
   double area_px = 0;           // region area [px]
 };
 
+// A robot candidate identification did not report: its team-colour region's centroid (raw
+// image pixels) and why (the furthest check its best hypothesis passed).
+struct RejectedRobotCandidate {
+  double u = 0, v = 0;
+  RejectionCause cause = RejectionCause::Unpaired;
+};
+
 struct CameraFrameDetections {
   double stamp = 0;  // [s] capture stamp of the image
   int camera_id = 0;
@@ -38,6 +45,9 @@ struct CameraFrameDetections {
   std::vector<RobotDetection> robots;
   std::vector<BallDetection> balls;  // candidates, best first
   RejectionCounts rejections;        // candidates not reported, by cause
+  // The robot candidates among them with a place (those off the plane have none); in-process
+  // only (evaluate's misses, detect), not in the CameraDetections message.
+  std::vector<RejectedRobotCandidate> rejected_robots;
 };
 
 }  // namespace soccer_vision

@@ -4,7 +4,8 @@
 // why they were missed, in this order:
 //   wrong id:                 a detection within 50 mm, of another team or id;
 //   identification rejected:  a region of a marker colour lies on the robot's top in the
-//                             image, yet no detection came of it;
+//                             image, yet no detection came of it (why, when a rejected team
+//                             region lies there: the identification's cause);
 //   nothing segmented:        not even a marker-coloured region there.
 #pragma once
 
@@ -27,6 +28,7 @@ struct MeasuredRate {
   std::int64_t measured = 0;
   std::int64_t wrong_id = 0;
   std::int64_t identification_rejected = 0;
+  RejectionCounts rejected_by_cause;  // of identification_rejected: a rejected team region's cause
   std::int64_t nothing_segmented = 0;
   double rate() const { return visible > 0 ? static_cast<double>(measured) / visible : 1.0; }
 };
@@ -38,6 +40,8 @@ struct MissedRobot {
   Team team = Team::Blue;
   int id = 0;
   const char* cause = "";       // "wrong_id", "identification_rejected" or "nothing_segmented"
+  const char* rejection = "";   // identification_rejected: the cause of a rejected team region on
+                                // its top ("area", "unpaired", ...), "" when none was there
   Eigen::Vector2d pixel{0, 0};  // its top's centre in the image
 };
 
@@ -51,9 +55,11 @@ class MeasuredRateCounter {
   explicit MeasuredRateCounter(RobotBody body = {}, double match_distance = 0.05);
 
   // One processed camera frame: the truth at its stamp, the camera, the frame's own robot
-  // detections and the image centroids of its regions of marker colours (team and id).
+  // detections, the image centroids of its regions of marker colours (team and id) and the
+  // robot candidates identification rejected.
   void add(const FrameRecord& truth, const CameraModel& camera, const std::vector<RobotDetection>& detections,
-           const std::vector<Eigen::Vector2d>& marker_regions, int camera_id = 0);
+           const std::vector<Eigen::Vector2d>& marker_regions, int camera_id = 0,
+           const std::vector<RejectedRobotCandidate>& rejected = {});
 
   const MeasuredRate& total() const { return total_; }
   // The same counts per robot (team, id): which robot a scene loses, not only how often.

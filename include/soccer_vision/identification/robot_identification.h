@@ -68,6 +68,8 @@ struct RobotIdentificationResult {
   // Team-colour regions that ended in no robot, by the furthest check their best
   // hypothesis passed (Unpaired: none formed; Conflict: a better robot took its regions).
   RejectionCounts rejections;
+  // Those of them that were projected, each with its cause, as `rejections` counts it.
+  std::vector<RejectedRobotCandidate> rejected;
 };
 
 class RobotIdentifier {

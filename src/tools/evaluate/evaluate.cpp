@@ -441,7 +441,8 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
           // The ball's colour is no robot's: a region of it is no hint of a robot.
           if (sv::isRobotMarkerColor(r.color)) marker_regions.emplace_back(r.cx, r.cy);
         }
-        s.measured.add(*truth, pc.model, f.detections.robots, marker_regions, camera.id);
+        s.measured.add(*truth, pc.model, f.detections.robots, marker_regions, camera.id,
+                       f.detections.rejected_robots);
         if (!f.tracker_reset) s.evaluation.addPrediction(*truth, f.prediction);
       },
       &setup.problems);
@@ -493,11 +494,17 @@ json scoreJson(const sv::RunEvaluation& e) {
 }
 
 json measuredJson(const sv::MeasuredRate& m) {
+  json by_cause = json::object();
+  for (int c = 0; c < sv::kNumRejectionCauses; ++c) {
+    const auto cause = static_cast<sv::RejectionCause>(c);
+    if (m.rejected_by_cause[cause] > 0) by_cause[sv::rejectionCauseName(cause)] = m.rejected_by_cause[cause];
+  }
   return {{"visible", m.visible},
           {"measured", m.measured},
           {"rate", m.rate()},
           {"wrong_id", m.wrong_id},
           {"identification_rejected", m.identification_rejected},
+          {"identification_rejected_by_cause", by_cause},
           {"nothing_segmented", m.nothing_segmented}};
 }
 
@@ -538,8 +545,8 @@ void writeMisses(const std::string& path, const std::vector<sv::MissedRobot>& mi
   std::ofstream out(path);
   for (const sv::MissedRobot& m : misses) {
     out << json{{"stamp", m.stamp}, {"camera", m.camera_id}, {"team", sv::teamName(m.team)},
-                {"id", m.id},       {"cause", m.cause},      {"u", m.pixel.x()},
-                {"v", m.pixel.y()}}
+                {"id", m.id},       {"cause", m.cause},      {"rejection", m.rejection},
+                {"u", m.pixel.x()}, {"v", m.pixel.y()}}
                .dump()
         << "\n";
   }

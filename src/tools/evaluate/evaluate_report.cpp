@@ -47,11 +47,16 @@ std::string percent(double v) { return fmt("%.3f %%", 100 * v); }
 void printScore(const json& j) {
   if (j.contains("measured")) {
     const json& m = j["measured"];
+    std::string why;  // " (area 15, unpaired 8)": the rejected team regions found on the robots
+    const json by_cause = m.value("identification_rejected_by_cause", json::object());
+    for (const auto& [cause, n] : by_cause.items())
+      why += (why.empty() ? " (" : ", ") + cause + " " + std::to_string(n.get<long long>());
+    if (!why.empty()) why += ")";
     std::printf(
         "measured: %.3f %% of visible robots in their own frame (%lld of %lld); missed: %lld wrong id, %lld "
-        "identification rejected, %lld nothing segmented\n",
+        "identification rejected%s, %lld nothing segmented\n",
         100 * m["rate"].get<double>(), m["measured"].get<long long>(), m["visible"].get<long long>(),
-        m["wrong_id"].get<long long>(), m["identification_rejected"].get<long long>(),
+        m["wrong_id"].get<long long>(), m["identification_rejected"].get<long long>(), why.c_str(),
         m["nothing_segmented"].get<long long>());
   }
   const json& r = j["robots"];
