@@ -196,7 +196,7 @@ class Matcher {
           Hypothesis h;
           h.team = t;
           assignSlots(seed, team_id, near, h.slot_obs);
-          if (h.slot_obs[s] < 0) continue;  // the seed itself did not survive the assignment
+          keepSeed(h.slot_obs, s, c);
           if (!seeded.insert(h.slot_obs)) continue;
           // Refit and reassign once: the seed pose rests on two centroids only.
           if (!fit(h)) {
@@ -204,6 +204,7 @@ class Matcher {
             continue;
           }
           assignSlots(h.pose, team_id, near, slot_scratch_);
+          keepSeed(slot_scratch_, s, c);
           // The pose was fitted to exactly these slots when the reassignment keeps them.
           const bool fitted = slot_scratch_ == h.slot_obs;
           h.slot_obs.swap(slot_scratch_);
@@ -270,6 +271,19 @@ class Matcher {
         continue;
       slot_obs[p.slot] = p.obs;
     }
+  }
+
+  // The seed region `c` keeps the slot `s` it seeded, even when another region lies nearer
+  // that slot's predicted place: a marker classified in two colours (spent seed 9016's Bayer
+  // pink: 36 px pink, 8 px purple 3 mm from its centre) is otherwise read from the fragment
+  // alone and rejected on its area, or read as the fragment's id. The fragment's own seed
+  // still gives its hypothesis; the better one wins.
+  static void keepSeed(std::vector<int>& slot_obs, std::size_t s, int c) {
+    if (slot_obs[s] == c) return;
+    for (int& o : slot_obs) {
+      if (o == c) o = -1;  // taken by another slot: it seeded this one
+    }
+    slot_obs[s] = c;
   }
 
   bool teamAxisUsable(const Observed& team) const {

@@ -286,6 +286,29 @@ TEST(RobotIdentification, TwoTagMissingRoleTagGivesNoRobotAndNoWrongId) {
   EXPECT_TRUE(find(with_unknown, Team::Yellow, 2));
 }
 
+// A role tag classified in two colours: most of it pink, a small purple fragment lying
+// where the slot is predicted, nearer than the pink part's centroid (spent seed 9016's Bayer
+// frames). The pink part seeds its hypothesis and keeps its slot: blue 0, not a rejection
+// on the fragment's area, and not blue 1.
+TEST(RobotIdentification, ARoleTagSplitInTwoColoursIsReadFromItsSeed) {
+  const PatternSet p = PatternSet::twoTag();
+  const RobotState r = robot(Team::Blue, 0, -2.0, 0.3, 0);
+  const auto markers = p.markers(Team::Blue, 0);
+  const double z = p.height(Team::Blue);
+  std::vector<Region> regions = {
+      markerRegion(kCamera, markers[0].shape, markers[0].color, r.x, r.y, r.theta, z)};
+  ASSERT_EQ(markers[1].color, ColorClass::Pink);
+  const double slot_x = r.x + markers[1].shape.x;
+  regions.push_back(discBlob(kCamera, ColorClass::Pink, slot_x + 0.004, r.y, 0.019, z));
+  regions.push_back(discBlob(kCamera, ColorClass::Purple, slot_x, r.y, 0.006, z));
+  const RobotIdentificationResult result = RobotIdentifier(kCamera, p).identify(regions);
+  EXPECT_FALSE(find(result.robots, Team::Blue, 1)) << "read from the purple fragment";
+  ASSERT_TRUE(find(result.robots, Team::Blue, 0)) << "rejections: " << result.rejections.summary();
+  EXPECT_LT(
+      std::hypot(find(result.robots, Team::Blue, 0)->x - r.x, find(result.robots, Team::Blue, 0)->y - r.y),
+      0.01);
+}
+
 // SSL: one dot missing. With all 16 ids in use the missing bit makes the id ambiguous:
 // no robot (or id -1 with report_unidentified, heading still from the three dots). With
 // a pattern set whose ids leave that bit determined, the id is given at lower confidence.
