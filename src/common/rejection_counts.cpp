@@ -30,6 +30,8 @@ const char* rejectionCauseName(RejectionCause cause) {
       return "ball_area";
     case RejectionCause::BallShape:
       return "ball_shape";
+    case RejectionCause::BallOnBlob:
+      return "ball_on_blob";
     case RejectionCause::BallConfidence:
       return "ball_confidence";
     case RejectionCause::BallSurplus:

@@ -21,6 +21,21 @@ std::vector<ImageDisc> BallDetector::robotTops(const std::vector<RobotDetection>
   return tops;
 }
 
+bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel,
+                               double expected_area) const {
+  if (params_.blob_area_ratio <= 0) return false;
+  const double reach = 2 * std::sqrt(expected_area / M_PI);  // one ball diameter [px]
+  for (const Region& r : regions) {
+    // The cluster's own fragments are below the area gate (area_ratio_max < blob_area_ratio).
+    if (r.area <= params_.blob_area_ratio * expected_area) continue;
+    // Distance from the centre to the region's bounding box.
+    const double dx = std::max({r.bbox.x - pixel.x(), 0.0, pixel.x() - (r.bbox.x + r.bbox.width)});
+    const double dy = std::max({r.bbox.y - pixel.y(), 0.0, pixel.y() - (r.bbox.y + r.bbox.height)});
+    if (std::hypot(dx, dy) <= reach) return true;
+  }
+  return false;
+}
+
 bool BallDetector::onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const {
   for (const ImageDisc& top : tops) {
     if ((pixel - top.centre).norm() < params_.robot_top_fraction * top.radius) return true;
@@ -115,6 +130,10 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     const double ratio = area / expected;
     if (ratio < params_.area_ratio_min || ratio > params_.area_ratio_max) {
       rejected.add(RejectionCause::BallArea);
+      continue;
+    }
+    if (onLargeBlob(regions, pixel, expected)) {
+      rejected.add(RejectionCause::BallOnBlob);
       continue;
     }
     const double width_ratio = 4 * minor_sd / (2 * std::sqrt(expected / M_PI));

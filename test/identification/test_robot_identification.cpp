@@ -524,6 +524,43 @@ TEST(BallDetection, FragmentsOfAStreakAreOneBall) {
       2u);
 }
 
+// A round orange shoe under a blue trouser leg beyond the line is no ball, nor a ball-sized
+// piece of a larger orange shoe; a ball against a robot's team tag (1.7 balls large) is.
+TEST(BallDetection, PartsOfLargerBlobsAreNoBallsAndABallBesideATeamTagIs) {
+  const BallDetector detector(kCamera, kField);
+  const Eigen::Vector3d shoe(-4.2, 3.1, 0.0215);
+  // The leg: a blue blob of 80 x 28 px (about 0.3 x 0.1 m here) whose end touches the shoe.
+  const Region shoe_region = ballRegion(kCamera, shoe);
+  Region leg_region;
+  leg_region.color = ColorClass::Blue;
+  leg_region.bbox = cv::Rect(shoe_region.bbox.x + shoe_region.bbox.width, shoe_region.bbox.y - 8, 80, 28);
+  leg_region.area = 80 * 28;
+  leg_region.cx = leg_region.bbox.x + 40;
+  leg_region.cy = leg_region.bbox.y + 14;
+  RejectionCounts rejected;
+  EXPECT_TRUE(detector.detect({shoe_region, leg_region}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
+  EXPECT_EQ(detector.detect({shoe_region}).size(), 1u) << "alone it passes for a ball";
+  leg_region.bbox.x += 2 * shoe_region.bbox.width;  // two diameters away: not attached
+  EXPECT_EQ(detector.detect({shoe_region, leg_region}).size(), 1u);
+  leg_region.bbox.x -= 2 * shoe_region.bbox.width;
+  BallDetectionParams off;
+  off.blob_area_ratio = 0;
+  EXPECT_EQ(BallDetector(kCamera, kField, off).detect({shoe_region, leg_region}).size(), 1u);
+
+  // A ball-sized piece of a large orange shoe, beside the rest of it.
+  Region rest = leg_region;
+  rest.color = ColorClass::Orange;
+  EXPECT_TRUE(detector.detect({shoe_region, rest}).empty());
+
+  const PatternSet p = PatternSet::twoTag();
+  const RobotState r = robot(Team::Blue, 0, -2.0, 0.3, 180);  // its team tag faces the ball
+  std::vector<Region> regions = regionsOf(p, {r});
+  regions.push_back(ballRegion(kCamera, Eigen::Vector3d(r.x + 0.09 + 0.0215, r.y, 0.0215)));
+  const auto balls = detector.detect(regions);
+  ASSERT_EQ(balls.size(), 1u);
+}
+
 // A robot pattern that uses orange for an id marker: that region is the robot's, not a ball.
 TEST(BallDetection, RegionsUsedByRobotsAreNotBalls) {
   PatternSet p = PatternSet::twoTag();

@@ -25,6 +25,7 @@ enum class RejectionCause {
   BallArea,        // ball area outside [area_ratio_min, area_ratio_max] x expected
   BallShape,       // ball width outside [width_ratio_min, width_ratio_max] x expected, or longer than
                    // max_elongation
+  BallOnBlob,      // ball cluster beside a blob of a marker colour many balls large: part of a shoe
   BallConfidence,  // ball confidence below min_confidence
   BallSurplus,     // a plausible ball beyond max_candidates
   kCount

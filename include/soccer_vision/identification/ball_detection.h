@@ -8,7 +8,8 @@
 // thin stripe is not a ball; a half-hidden ball still is), elongated at most as a blurred
 // streak is, and not on a robot: its centre not inside the image of an identified robot's
 // top at its team's height (a ball on the floor cannot be seen through one; Bayer fringes
-// and markers' rims on a top can be orange). Several candidates may remain; each gets a
+// and markers' rims on a top can be orange), and not beside a blob of a marker colour many
+// balls large (the rest of an orange shoe, a trouser leg). Several candidates may remain; each gets a
 // confidence from its area ratio, weighted down outside the playing area (a ball there is
 // out of play; orange shoes and clothes stand there), best first.
 #pragma once
@@ -41,6 +42,13 @@ struct BallDetectionParams {
   // from its centre, in the image, is on that robot (a ball beside a robot, half under the
   // top's rim, has its visible centre beyond 0.8 of it); 0 = off.
   double robot_top_fraction = 0.8;
+  // A cluster is part of something larger, not a ball, when a region of a marker colour
+  // larger than this many times the ball's expected pixel area comes within one ball
+  // diameter of its centre: a piece of an orange shoe beside the rest of it (spent seed
+  // 9017's rand_people: the ball in 4 frames while the real one was out of view), a sock
+  // under a trouser leg in team colours. No robot marker is that large (the largest, the
+  // 80 x 30 mm team tag, is 1.7 balls), nor any ball (area_ratio_max 3); 0 = off.
+  double blob_area_ratio = 4.0;
   int max_candidates = 4;  // best first; 0 = all
   double min_confidence = 0.02;
 };
@@ -71,6 +79,10 @@ class BallDetector {
  private:
   // The robots' tops in the image, once per frame (none when robot_top_fraction is 0).
   std::vector<ImageDisc> robotTops(const std::vector<RobotDetection>& robots) const;
+  // Whether a region larger than blob_area_ratio x `expected_area` reaches within one ball
+  // diameter of `pixel`.
+  bool onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel,
+                   double expected_area) const;
   // Whether an image point lies within robot_top_fraction of one of those tops.
   bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const;
 
