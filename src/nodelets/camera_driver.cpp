@@ -436,7 +436,7 @@ void CameraDriverNodelet::publishFrame(const sensor_msgs::ImagePtr& image, const
                     static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(image->data.data()))};
     address_pub_.publish(report);
   }
-  camera_pub_.publish(image, camera_info);  // neither is touched after this
+  camera_pub_.publish(image, camera_info);  // untouched until every holder released it (ImagePool)
   const double publish_delay_ms = (ros::Time::now() - header.stamp).toSec() * 1e3;
   image_diag_->tick(header.stamp);
   {

@@ -364,6 +364,7 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
     if (replay_frames_ > 0 && replay_.empty()) {
       // Before the first frame is planned: rendering them is not a camera falling behind.
       if (!renderReplay(error)) return error.empty() ? GrabStatus::Interrupted : GrabStatus::Error;
+      copied = -1;  // a frame copied before was of the replaced frames
     }
     if (!started_) {
       // First frame: the first capture time on the grid at or after now.

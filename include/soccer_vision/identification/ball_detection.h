@@ -9,9 +9,9 @@
 // streak is, and not on a robot: its centre not inside the image of an identified robot's
 // top at its team's height (a ball on the floor cannot be seen through one; Bayer fringes
 // and markers' rims on a top can be orange), and not beside a blob of a marker colour many
-// balls large (the rest of an orange shoe, a trouser leg). Several candidates may remain; each gets a
-// confidence from its area ratio, weighted down outside the playing area (a ball there is
-// out of play; orange shoes and clothes stand there), best first.
+// balls large (the rest of an orange shoe, a trouser leg). Several candidates may remain;
+// each gets a confidence from its area ratio, weighted down outside the playing area (a ball
+// there is out of play; orange shoes and clothes stand there), best first.
 #pragma once
 
 #include <vector>
