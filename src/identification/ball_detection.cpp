@@ -22,16 +22,15 @@ std::vector<ImageDisc> BallDetector::robotTops(const std::vector<RobotDetection>
 }
 
 bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel,
-                               double expected_area) const {
+                               double expected_area, double diameter) const {
   if (params_.blob_area_ratio <= 0) return false;
-  const double reach = 2 * std::sqrt(expected_area / M_PI);  // one ball diameter [px]
   for (const Region& r : regions) {
     // The cluster's own fragments are below the area gate (area_ratio_max < blob_area_ratio).
     if (r.area <= params_.blob_area_ratio * expected_area) continue;
     // Distance from the centre to the region's bounding box.
     const double dx = std::max({r.bbox.x - pixel.x(), 0.0, pixel.x() - (r.bbox.x + r.bbox.width)});
     const double dy = std::max({r.bbox.y - pixel.y(), 0.0, pixel.y() - (r.bbox.y + r.bbox.height)});
-    if (std::hypot(dx, dy) <= reach) return true;
+    if (std::hypot(dx, dy) <= diameter) return true;
   }
   return false;
 }
@@ -132,11 +131,12 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
       rejected.add(RejectionCause::BallArea);
       continue;
     }
-    if (onLargeBlob(regions, pixel, expected)) {
+    const double diameter = 2 * std::sqrt(expected / M_PI);  // projected [px]
+    if (onLargeBlob(regions, pixel, expected, diameter)) {
       rejected.add(RejectionCause::BallOnBlob);
       continue;
     }
-    const double width_ratio = 4 * minor_sd / (2 * std::sqrt(expected / M_PI));
+    const double width_ratio = 4 * minor_sd / diameter;
     if (width_ratio < params_.width_ratio_min || width_ratio > params_.width_ratio_max ||
         major_sd > params_.max_elongation * minor_sd) {
       rejected.add(RejectionCause::BallShape);

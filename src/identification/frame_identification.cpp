@@ -24,7 +24,7 @@ CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regio
   RobotIdentificationResult robots = robots_.identify(regions, mosaic);
   out.robots = std::move(robots.robots);
   out.rejections = robots.rejections;
-  out.rejected_robots = robots.rejected;
+  out.rejected_robots = std::move(robots.rejected);
   out.balls = balls_.detect(regions, robots.region_used, &out.rejections, out.robots);
   if (confirmed) {
     confirmed->clear();

@@ -351,7 +351,7 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
   const auto copyReplay = [&](std::int64_t index) {
     if (copied == index) return;
     const double start = systemNow();
-    replayFrame(index).image.copyTo(image);  // same size and type: into the caller's buffer
+    replayPosition(index).frame.image.copyTo(image);  // same size and type: into the caller's buffer
     copied = index;
     replay_lead_ = std::max(0.9 * replay_lead_, 1.5 * (systemNow() - start) + 0.5e-3);
   };
@@ -406,10 +406,11 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
   SceneState scene;
   if (!replay_.empty()) {
     copyReplay(index);
-    const ReplayFrame& frame = replayFrame(index);
+    const ReplayPosition at = replayPosition(index);
+    const ReplayFrame& frame = at.frame;
     info.encoding = frame.encoding;
     scene = frame.scene;
-    if (replayBackwards(index)) {
+    if (at.backwards) {
       for (RobotState& r : scene.robots) r.vx = -r.vx, r.vy = -r.vy, r.omega = -r.omega;
       for (BallState& b : scene.balls) b.vx = -b.vx, b.vy = -b.vy, b.vz = -b.vz;
     }
@@ -427,21 +428,11 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
     scene = sim_->state();
     scene.time = base_scene_time_ + static_cast<double>(next_n_) * period_;
     try {
-      RenderedFrame out;
-      out.image = image;  // shares the caller's buffer
-      renderer_->render(scene, index, out);
-      if (out.image.data != image.data) out.image.copyTo(image);  // renderer reallocated
-      info.encoding = out.encoding.empty() ? format_.encoding : out.encoding;
+      renderInto(scene, index, image, info.encoding, info.robot_visible, info.ball_visible);
     } catch (const std::exception& e) {
       error = std::string("rendering failed: ") + e.what();
       return GrabStatus::Error;
     }
-    info.robot_visible.resize(scene.robots.size());
-    for (std::size_t i = 0; i < scene.robots.size(); ++i)
-      info.robot_visible[i] = renderer_->robotVisible(scene.robots[i]);
-    info.ball_visible.resize(scene.balls.size());
-    for (std::size_t i = 0; i < scene.balls.size(); ++i)
-      info.ball_visible[i] = renderer_->ballVisible(scene.balls[i]);
   }
 
   info.stamp = due;
@@ -454,17 +445,26 @@ GrabStatus SyntheticSource::grab(cv::Mat& image, FrameInfo& info, double timeout
   return GrabStatus::Ok;
 }
 
-// Forth and back over the rendered frames, by the absolute index: cameras sharing an epoch
-// show the same frame.
-bool SyntheticSource::replayBackwards(std::int64_t index) const {
-  const std::int64_t n = static_cast<std::int64_t>(replay_.size()), cycle = 2 * n - 2;
-  return ((index % cycle) + cycle) % cycle >= n;
+void SyntheticSource::renderInto(const SceneState& scene, std::int64_t index, cv::Mat& image,
+                                 std::string& encoding, std::vector<bool>& robot_visible,
+                                 std::vector<bool>& ball_visible) const {
+  RenderedFrame out;
+  out.image = image;  // shares the buffer
+  renderer_->render(scene, index, out);
+  if (out.image.data != image.data) out.image.copyTo(image);  // renderer reallocated
+  encoding = out.encoding.empty() ? format_.encoding : out.encoding;
+  robot_visible.clear();
+  for (const RobotState& r : scene.robots) robot_visible.push_back(renderer_->robotVisible(r));
+  ball_visible.clear();
+  for (const BallState& b : scene.balls) ball_visible.push_back(renderer_->ballVisible(b));
 }
 
-const SyntheticSource::ReplayFrame& SyntheticSource::replayFrame(std::int64_t index) const {
+// Forth and back over the rendered frames, by the absolute index: cameras sharing an epoch
+// show the same frame.
+SyntheticSource::ReplayPosition SyntheticSource::replayPosition(std::int64_t index) const {
   const std::int64_t n = static_cast<std::int64_t>(replay_.size()), cycle = 2 * n - 2;
   const std::int64_t m = ((index % cycle) + cycle) % cycle;
-  return replay_[static_cast<std::size_t>(m >= n ? cycle - m : m)];
+  return {replay_[static_cast<std::size_t>(m >= n ? cycle - m : m)], m >= n};
 }
 
 bool SyntheticSource::renderReplay(std::string& error) {
@@ -484,13 +484,8 @@ bool SyntheticSource::renderReplay(std::string& error) {
       ReplayFrame& f = frames[i];
       f.scene = sim.state();
       f.scene.time = static_cast<double>(i) * period_;
-      RenderedFrame out;
-      out.image.create(format_.height, format_.width, format_.cv_type);
-      renderer_->render(f.scene, static_cast<std::int64_t>(i), out);
-      f.image = out.image;
-      f.encoding = out.encoding.empty() ? format_.encoding : out.encoding;
-      for (const RobotState& r : f.scene.robots) f.robot_visible.push_back(renderer_->robotVisible(r));
-      for (const BallState& b : f.scene.balls) f.ball_visible.push_back(renderer_->ballVisible(b));
+      f.image.create(format_.height, format_.width, format_.cv_type);
+      renderInto(f.scene, static_cast<std::int64_t>(i), f.image, f.encoding, f.robot_visible, f.ball_visible);
       sim.step(period_);
     }
     replay_ = std::move(frames);

@@ -11,10 +11,11 @@
 //
 // Setting `replay_frames` N (0: off): the first N frames are rendered once, before the
 // first grab() returns, and then shown forth and back (0, 1, .., N-1, N-2, .., 1, 0, 1, ..),
-// each grab() only copying one, just before the frame's capture time (as a camera's DMA). A camera whose
-// frames cost a copy, for measuring the vision system at rates the renderer cannot reach (2 x 2448x2048 at 75
-// Hz): positions stay continuous at the turns, where the true velocities change sign. The ground truth is the
-// frame's; at most kMaxReplayBytes of frames. A fps or control change renders them anew.
+// each grab() only copying one, just before the frame's capture time (as a camera's DMA).
+// A camera whose frames cost a copy, for measuring the vision system at rates the renderer
+// cannot reach (2 x 2448x2048 at 75 Hz): positions stay continuous at the turns, where the
+// true velocities change sign. The ground truth is the frame's; at most kMaxReplayBytes of
+// frames. A fps or control change renders them anew.
 #pragma once
 
 #include <condition_variable>
@@ -79,15 +80,23 @@ class SyntheticSource : public FrameSource {
   // Renders the replay's frames from the game's start (capture thread); false if interrupted.
   bool renderReplay(std::string& error);
 
+  // Renders `scene` into `image` (its buffer kept) and sets `encoding` and which robots and
+  // balls the frame shows whole; throws what the renderer throws.
+  void renderInto(const SceneState& scene, std::int64_t index, cv::Mat& image, std::string& encoding,
+                  std::vector<bool>& robot_visible, std::vector<bool>& ball_visible) const;
+
   struct ReplayFrame {
     cv::Mat image;
     std::string encoding;
     SceneState scene;
     std::vector<bool> robot_visible, ball_visible;
   };
-  // The replayed frame of absolute frame `index`, and whether it is shown on the way back.
-  const ReplayFrame& replayFrame(std::int64_t index) const;
-  bool replayBackwards(std::int64_t index) const;
+  // Where absolute frame `index` is in the replay: which frame, and whether on the way back.
+  struct ReplayPosition {
+    const ReplayFrame& frame;
+    bool backwards;
+  };
+  ReplayPosition replayPosition(std::int64_t index) const;
 
   FieldGeometry field_;
   PatternSet patterns_;
