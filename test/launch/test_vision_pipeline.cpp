@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -155,16 +156,18 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
   }
   EXPECT_EQ(foreign, 0u) << "robots messages whose stamp is no image's";
 
-  // Scored: the frames whose robot and ball truth this test both received. The bag has both
-  // for every frame; a missing one is a subscription that connected a few frames late (each
-  // topic connects on its own), not a frame without a ball.
-  // Before the first ball truth arrived its subscription was still connecting (under load
-  // that took 0.7 s once); after it, a missing one is a lost message.
+  // Scored: the frames whose robot and ball truth and ball output this test all received.
+  // Tracking publishes robots and balls for every frame; a missing message before the first
+  // one of its topic is a subscription that was still connecting (each topic connects on its
+  // own; under load that took 0.7 s, 40 frames), not a frame without a ball. After the first
+  // one, a missing message is a lost one, counted.
   Score score;
-  const BallPoseArray no_balls;
-  std::size_t without_ball_truth = 0, before_ball_truth = 0;
+  std::size_t without_ball_truth = 0, before_ball_truth = 0, without_balls = 0, before_balls = 0;
+  std::vector<std::int64_t> missed_ball_frames;  // scored frame indices
   ASSERT_FALSE(rec.truth_balls.empty()) << "no ground_truth/balls";
+  ASSERT_FALSE(rec.balls.empty()) << "no /vision/balls";
   const ros::Time first_ball_truth = rec.truth_balls.begin()->first;
+  const ros::Time first_balls = rec.balls.begin()->first;
   for (const auto& [stamp, msg] : rec.robots) {
     const auto truth = rec.truth_robots.find(stamp);
     const auto tb = rec.truth_balls.find(stamp);
@@ -174,8 +177,12 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
       continue;
     }
     const auto b = rec.balls.find(stamp);
+    if (b == rec.balls.end()) {
+      ++(stamp < first_balls ? before_balls : without_balls);
+      continue;
+    }
     const FrameRecord truth_frame = toFrameRecord(*truth->second, *tb->second);
-    const FrameRecord result_frame = toFrameRecord(*msg, b != rec.balls.end() ? *b->second : no_balls);
+    const FrameRecord result_frame = toFrameRecord(*msg, *b->second);
     const Score frame = scoreFrame(truth_frame, result_frame);
     // A wrong ball says where and when, so that a failure can be understood from the log.
     if (frame.false_balls > 0 && score.false_balls < 20) {
@@ -187,13 +194,27 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
         std::printf(" (%.3f, %.3f) %s", t.x, t.y, t.visible.value_or(true) ? "in view" : "out of view");
       std::printf("\n");
     }
+    // A missed ball too: the first frames of a stretch of misses say what went wrong.
+    if (frame.matched_balls < frame.truth_balls) {
+      if (missed_ball_frames.size() < 20) {
+        std::printf("[ missed ball ] stamp %.4f (frame %ld): truth", stamp.toSec(),
+                    static_cast<long>(score.frames));
+        for (const BallRecord& t : truth_frame.balls) std::printf(" (%.3f, %.3f)", t.x, t.y);
+        std::printf("; reported");
+        for (const BallRecord& r : result_frame.balls)
+          std::printf(" (%.3f, %.3f) %s", r.x, r.y, r.visible.value_or(true) ? "measured" : "coasting");
+        std::printf("\n");
+      }
+      missed_ball_frames.push_back(score.frames);
+    }
     score.add(frame);
   }
   std::printf(
-      "[ vision pipeline ] %zu outputs with robot truth but without ball truth (not scored), %zu more before "
-      "the first ball truth\n",
-      without_ball_truth, before_ball_truth);
+      "[ vision pipeline ] outputs not scored: %zu without ball truth (%zu more before the first), %zu "
+      "without /vision/balls (%zu more before the first)\n",
+      without_ball_truth, before_ball_truth, without_balls, before_balls);
   EXPECT_LE(without_ball_truth, 30u) << "the ball truth must come with the frames";
+  EXPECT_LE(without_balls, 30u) << "/vision/balls must come with /vision/robots";
   std::printf(
       "[ vision pipeline ] %ld frames: robots detection %.3f %% (%ld/%ld), precision %.3f %%, identity "
       "errors "
@@ -214,7 +235,9 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
   EXPECT_LE(score.robotPositionRmse(), param("max_position_rmse", 0.005));
   EXPECT_LE(score.robotHeadingRmse() * 180 / M_PI, param("max_heading_rmse", 1.0));
   if (score.truth_balls > 0) {
-    EXPECT_GE(score.ballDetectionRate(), param("min_ball_detection", 0.98));
+    EXPECT_GE(score.ballDetectionRate(), param("min_ball_detection", 0.98))
+        << missed_ball_frames.size() << " frames missed the ball, the first " << missed_ball_frames.front()
+        << ", the last " << missed_ball_frames.back() << " of " << score.frames;
     EXPECT_GE(score.ballPrecision(), param("min_ball_precision", 0.98));
   }
   // Tracking feeds windows back: most frames are searched in windows, not whole.
