@@ -361,6 +361,39 @@ struct ClassModel {
   }
 };
 
+// ColorTableParams::fallback_sigmas: every cell no class claimed goes to the robot marker
+// class nearest to it (at the nearest of its probes) if that is within the bound and no
+// other class (the carpet's, the lines', the robot tops', the ball's) is within
+// fallback_guard_sigmas. Cells of the background model (`background_cell`, if any) stay
+// unclaimed, as they do for generalisation.
+void claimHolesByNearestClass(const ColorTableParams& params,
+                              const std::array<ClassModel, kNumColorClasses>& models,
+                              const std::vector<Lab>& probes, const std::vector<bool>& background_cell,
+                              std::vector<std::uint16_t>& claims) {
+  const double bound = params.fallback_sigmas * params.fallback_sigmas;
+  const double guard = params.fallback_guard_sigmas * params.fallback_guard_sigmas;
+  for (std::size_t i = 0; i < claims.size(); ++i) {
+    if (claims[i] || (!background_cell.empty() && background_cell[i])) continue;
+    double best = bound, nearest_other = HUGE_VAL;
+    int nearest = -1;
+    for (int c = 0; c < kNumColorClasses; ++c) {
+      if (models[c].parts.empty()) continue;
+      const bool marker = isRobotMarkerColor(static_cast<ColorClass>(c));
+      for (int k = 0; k < kCellProbes; ++k) {
+        const double d2 = models[c].mahalanobis2(probes[i * kCellProbes + k]);
+        if (!marker) {
+          nearest_other = std::min(nearest_other, d2);
+        } else if (d2 <= best) {
+          best = d2;
+          nearest = c;
+        }
+      }
+    }
+    if (nearest >= 0 && nearest_other > guard)
+      claims[i] = static_cast<std::uint16_t>(1u << static_cast<unsigned>(nearest));
+  }
+}
+
 // The colours of every cell at which generalisation tests the classes (cellProbe).
 std::vector<Lab> cellProbeColors(const ColorTableParams& params) {
   const int hb = params.h_bins, sb = params.s_bins, vb = params.v_bins;
@@ -596,6 +629,9 @@ void ColorTableParams::validate() const {
   if (!(closing_sigmas > 0)) fail("closing_sigmas must be positive");
   if (!(generalize_sigmas >= 0 && generalize_sigmas <= 10)) fail("generalize_sigmas must be in 0..10");
   if (!(background_share >= 0 && background_share <= 1)) fail("background_share must be in 0..1");
+  if (!(fallback_sigmas >= 0 && fallback_sigmas <= 20) ||
+      !(fallback_guard_sigmas >= 0 && fallback_guard_sigmas <= 20))
+    fail("fallback_sigmas and fallback_guard_sigmas must be in 0..20");
   if (!(spread_l > 0 && spread_l <= 100) || !(spread_ab > 0 && spread_ab <= 100)) {
     fail("spread_l and spread_ab must be in (0, 100]");
   }
@@ -790,6 +826,9 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     }
     for (std::size_t i = 0; i < n_cells; ++i) st.cells_claimed += (claims[i] & bit) != 0;
   }
+
+  if (generalize && params.fallback_sigmas > 0)
+    claimHolesByNearestClass(params, lab_models, probes, background_cell, claims);
 
   table.cells_.assign(n_cells, ColorClass::None);
   const double wh = 360.0 / params.h_bins, ws = 1.0 / s_bins, wv = 256.0 / v_bins;

@@ -9,7 +9,7 @@
 //   rosrun soccer_vision calibrate_colors --image A.png [--image B.png ...]
 //       --samples samples.yaml [--samples ...] --out table.svct [--preview preview.png]
 //       [--threshold-lab X] [--threshold-h DEG] [--bins H,S,V] [--v-margin N]
-//       [--generalize SIGMAS] [--spread L,AB]
+//       [--generalize SIGMAS] [--spread L,AB] [--fallback SIGMAS] [--fallback-guard SIGMAS]
 //       [--light normalized|as-captured]
 //
 // Images and samples files pair up in order; a single samples file applies to every image.
@@ -89,6 +89,15 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
   app.add_option("--ball-carpet-unmix", o.params.ball_carpet_unmix,
                  "share of the carpet's colour also taken out of the ball's samples (a blurred ball); 0: off")
       ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  app.add_option(
+         "--fallback", o.params.fallback_sigmas,
+         "[sigmas] a cell no class claimed goes to the nearest robot marker class within this; 0: off")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
+  app.add_option("--fallback-guard", o.params.fallback_guard_sigmas,
+                 "[sigmas] ... only if every other class (carpet, lines, robot tops, ball) is beyond this")
+      ->check(CLI::Range(0.0, 20.0))
       ->capture_default_str();
   app.add_option("--clipped-variants", o.params.clipped_variants,
                  "robot markers also as clipped under the images' brightest light (true/false)")

@@ -322,6 +322,7 @@ TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   const ColorTable with = ColorTable::buildFromSamplePixels(samples);
   ColorTableParams off;
   off.brightness_spread = 0;
+  off.fallback_sigmas = 0;  // which would also reach them, from farther away
   const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
   for (const double f : {0.7, 0.6}) {
     // The samples' mean colour at f of its normalised brightness (V 210).
@@ -940,6 +941,45 @@ TEST(ColorTable, ClosingInHsFillsTheCellsBetweenSamples) {
 // another sheet, another place under the lamps and the sensor's noise give them. The
 // generalised table claims them; the samples' body alone does not. The neighbouring
 // class and the carpet keep their colours.
+// ColorTableParams::fallback_sigmas: a colour between the classes' Gaussians that is far
+// from the carpet, the lines and the robot tops goes to the nearest marker; one near the
+// carpet stays none. Along the line from the pink samples' colour towards a blue, the first
+// colour beyond pink's generalisation is pink with the fallback and none without.
+TEST(ColorTable, AHoleFarFromTheBackgroundGoesToTheNearestMarker) {
+  ClassPixels samples;
+  for (int i = 0; i < 12; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Pink].emplace_back(160 + d, 70 - d, 240 + d);
+    samples[ColorClass::Yellow].emplace_back(40 + d, 210 - d, 230 + d);
+    samples[ColorClass::Carpet].emplace_back(50 + d, 125 - d, 55 + d);
+    samples[ColorClass::RobotTop].emplace_back(25 + d, 22, 20 - d);
+  }
+  ColorTableParams off;
+  off.fallback_sigmas = 0;
+  const ColorTable with = ColorTable::build(samples), without = ColorTable::build(samples, off);
+  auto classify = [](const ColorTable& t, const cv::Vec3d& p) {
+    return t.classify(cv::saturate_cast<std::uint8_t>(p[0]), cv::saturate_cast<std::uint8_t>(p[1]),
+                      cv::saturate_cast<std::uint8_t>(p[2]));
+  };
+  const cv::Vec3d pink(160, 70, 240), blue(250, 60, 60);
+  int first_hole = -1;
+  for (int k = 0; k <= 100 && first_hole < 0; ++k) {
+    if (classify(without, pink + (blue - pink) * (k / 100.0)) == ColorClass::None) first_hole = k;
+  }
+  ASSERT_GT(first_hole, 0) << "pink's generalisation reaches along the line";
+  EXPECT_EQ(classify(with, pink + (blue - pink) * (first_hole / 100.0)), ColorClass::Pink) << first_hole;
+  // The dark green between the carpet and the robot tops, and greys: within the guard of
+  // the carpet or the robot tops (black), or far from every marker: no marker's.
+  for (const cv::Vec3d& p : {cv::Vec3d(35, 70, 38), cv::Vec3d(60, 60, 60), cv::Vec3d(128, 128, 128)}) {
+    EXPECT_FALSE(isMarkerColor(classify(with, p))) << p;
+    EXPECT_EQ(classify(with, p), classify(without, p)) << p;
+  }
+  // The samples' own colours keep their classes.
+  EXPECT_EQ(with.classify(160, 70, 240), ColorClass::Pink);
+  EXPECT_EQ(with.classify(40, 210, 230), ColorClass::Yellow);
+  EXPECT_EQ(with.classify(50, 125, 55), ColorClass::Carpet);
+}
+
 TEST(ColorTable, GeneralisationRecognisesOtherPrintsOfAFewSamples) {
   auto print = [](double h, double s, double v, int n, unsigned seed) {
     cv::RNG rng(seed);

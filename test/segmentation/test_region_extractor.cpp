@@ -547,8 +547,12 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 // (ColorTableParams::brightness_spread) widen the classes further: the tiles the noise
 // frame's grid hits now hold 94 % of its pixels (54 % without): 35x a normal frame on a
 // quiet machine, 48x with an evaluation running beside it; the ball's carpet mixture levels
-// (ColorTableParams::ball_carpet_mix, ball_carpet_unmix) 96.0 %. So the time bound is loose
-// and the pixel count, which does not depend on the machine, is the tight one.
+// (ColorTableParams::ball_carpet_mix, ball_carpet_unmix) 96.0 %. The fallback of holes to
+// the nearest marker (ColorTableParams::fallback_sigmas 4.5) makes more hits survive the
+// hit check, whose patches are classified before the tiles: 1.52x the frame's pixels
+// classified, 64-67x a normal frame on a quiet machine (3.5 sigmas: 1.16x, 44x; 6 sigmas:
+// 1.91x, 75x). So the time bound is loose and the pixel count, which does not depend on the
+// machine, is the tight one.
 TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   ScenarioConfig scenario;
   const FieldGeometry field;
@@ -575,8 +579,8 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
       normal_ms, normal_stats.grid_points, normal_stats.classified_pixels, noise_ms,
       noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
   EXPECT_EQ(regions.size(), 0u);
-  EXPECT_LE(noise_ms, 80 * normal_ms);
-  EXPECT_LE(noise_stats.classified_pixels, noise.total() * 97 / 100);
+  EXPECT_LE(noise_ms, 150 * normal_ms);
+  EXPECT_LE(noise_stats.classified_pixels, noise.total() * 160 / 100);
 }
 
 TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProjectedCentre) {

@@ -98,6 +98,16 @@ struct ColorTableParams {
   double generalize_sigmas = 3.0;
   double spread_l = 6.0;   // ΔE
   double spread_ab = 5.0;  // ΔE
+  // With generalisation: a cell that no class claimed (a hole between the classes'
+  // Gaussians) goes to the robot marker class nearest to it (Mahalanobis) if that is within
+  // fallback_sigmas and every other class (carpet, lines, robot tops, the ball) is beyond
+  // fallback_guard_sigmas: a colour far from anything but the markers is a marker, such as
+  // another print of a colour that one frame showed on one robot, or a marker under a lamp
+  // that frame did not have. The guard decides (docs/segmentation.md: 4.5, 6 and 8 sigmas
+  // claimed the same cells that mattered, a guard of 5 lost a robot to the carpet's noise);
+  // the ball is never a fallback (an orange hole made a false ball). 0 = off.
+  double fallback_sigmas = 4.5;
+  double fallback_guard_sigmas = 6.0;
   // With generalisation: each valid sample of a robot's marker colour (not the ball's) also
   // stands for its own chromaticity at 1 − x and 1 / (1 − x) of its brightness, for x = 0.1,
   // 0.15, … up to this share. A marker's V after normalisation still varies by
