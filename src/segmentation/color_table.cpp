@@ -232,6 +232,45 @@ double circularMeanDegrees(const std::vector<Hsv>& pixels) {
   return mean < 0 ? mean + 360.0 : mean;
 }
 
+// Whether two or three of a sample's channels are at the sensor's ceiling: such a sample
+// tells nothing of the ratio between them, so nothing of its hue (a yellow under a bright
+// lamp reads (69, 255, 255), hue 60°, where its print reads 47°).
+bool clippedTwice(const cv::Vec3b& p) {
+  return (p[0] >= kClipLevel) + (p[1] >= kClipLevel) + (p[2] >= kClipLevel) >= 2;
+}
+
+// Of a robot marker class with at least kMinHueSamples samples that show their hue, the
+// validity centre is theirs; the samples clipped twice are not valid, and are returned in
+// `body_only`: they claim their own cells (the same clipped colour under the same lamp)
+// without pulling the Gaussian to a hue the print does not have. Otherwise all samples
+// decide, as the paper's.
+constexpr std::size_t kMinHueSamples = 8;
+
+SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixels,
+                          const std::vector<Lab>& lab, const std::vector<Hsv>& hsv, const ClassStatistics& st,
+                          std::vector<Hsv>& body_only) {
+  std::vector<std::size_t> hue_samples;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (!clippedTwice(pixels[i].bgr)) hue_samples.push_back(i);
+  }
+  if (!isRobotMarkerColor(color) || hue_samples.size() == pixels.size() ||
+      hue_samples.size() < kMinHueSamples)
+    return validityCentre(lab, hsv, st.thresholds, st.mean_h);
+  std::vector<Lab> sub_lab;
+  std::vector<Hsv> sub_hsv;
+  for (const std::size_t i : hue_samples) {
+    sub_lab.push_back(lab[i]);
+    sub_hsv.push_back(hsv[i]);
+  }
+  const SampleCentre sub = validityCentre(sub_lab, sub_hsv, st.thresholds, circularMeanDegrees(sub_hsv));
+  SampleCentre centre{sub.lab, std::vector<bool>(pixels.size(), false)};
+  for (std::size_t k = 0; k < hue_samples.size(); ++k) centre.valid[hue_samples[k]] = sub.valid[k];
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (clippedTwice(pixels[i].bgr)) body_only.push_back(hsv[i]);
+  }
+  return centre;
+}
+
 // Means and variances of the valid pixels, variances floored at the cell's quantisation
 // variance so that a class whose samples share one value still has a proper Gaussian.
 void fitGaussian(const std::vector<Hsv>& valid, const ColorTableParams& params, ClassStatistics& st) {
@@ -747,7 +786,8 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
 
     std::vector<Hsv> valid;
     std::vector<Lab> valid_lab;
-    const SampleCentre centre = validityCentre(lab, hsv, st.thresholds, st.mean_h);
+    std::vector<Hsv> body_only;  // samples that claim their own cells but do not shape the Gaussian
+    const SampleCentre centre = markerCentre(color, pixels, lab, hsv, st, body_only);
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       if (centre.valid[i]) {
         valid.push_back(hsv[i]);
@@ -790,11 +830,13 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     // The body: per HS cell, the V bins between its lowest and highest valid pixel.
     std::fill(v_min.begin(), v_min.end(), INT_MAX);
     std::fill(v_max.begin(), v_max.end(), INT_MIN);
-    for (const Hsv& p : valid) {
-      const std::size_t hs = static_cast<std::size_t>(table.hBin(p.h)) * s_bins + table.sBin(p.s);
-      const int v = static_cast<int>(p.v);
-      v_min[hs] = std::min(v_min[hs], v);
-      v_max[hs] = std::max(v_max[hs], v);
+    for (const std::vector<Hsv>* body : {&valid, &body_only}) {
+      for (const Hsv& p : *body) {
+        const std::size_t hs = static_cast<std::size_t>(table.hBin(p.h)) * s_bins + table.sBin(p.s);
+        const int v = static_cast<int>(p.v);
+        v_min[hs] = std::min(v_min[hs], v);
+        v_max[hs] = std::max(v_max[hs], v);
+      }
     }
     if (params.hs_closing > 0 && !valid.empty()) closeInHs(params, st, v_min, v_max);
     const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));

