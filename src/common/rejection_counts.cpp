@@ -42,13 +42,20 @@ const char* rejectionCauseName(RejectionCause cause) {
   return "unknown";
 }
 
+std::vector<std::pair<const char*, long>> RejectionCounts::named(bool counted_only) const {
+  std::vector<std::pair<const char*, long>> out;
+  for (int i = 0; i < kNumRejectionCauses; ++i) {
+    if (counted_only && counts[i] == 0) continue;
+    out.emplace_back(rejectionCauseName(static_cast<RejectionCause>(i)), counts[i]);
+  }
+  return out;
+}
+
 std::string RejectionCounts::summary() const {
   std::string out;
-  for (int i = 0; i < kNumRejectionCauses; ++i) {
-    if (counts[i] == 0) continue;
+  for (const auto& [name, count] : named(true)) {
     if (!out.empty()) out += ", ";
-    out += rejectionCauseName(static_cast<RejectionCause>(i));
-    out += " " + std::to_string(counts[i]);
+    out += std::string(name) + " " + std::to_string(count);
   }
   return out.empty() ? "none" : out;
 }

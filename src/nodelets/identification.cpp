@@ -309,10 +309,8 @@ void IdentificationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrap
   stat.add("dropped: errors", dropped_error_);
   stat.add("camera_info refused (NaN/Inf, focal <= 0, size)", camera_info_refused_);
   // Candidates (team-colour regions, orange clusters) not reported, since start, by cause.
-  for (int i = 0; i < kNumRejectionCauses; ++i) {
-    const auto cause = static_cast<RejectionCause>(i);
-    stat.add(std::string("rejected: ") + rejectionCauseName(cause), rejections_[cause]);
-  }
+  for (const auto& [name, count] : rejections_.named(false))
+    stat.add(std::string("rejected: ") + name, count);
   stat.add("pattern", pattern_name_);
   stat.add("camera pose", !pose_file_path_.empty()
                               ? "file " + pose_file_path_ + (pose_file_ ? "" : " (not loaded yet)")

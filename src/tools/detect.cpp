@@ -172,10 +172,7 @@ int run(const Options& o) {
     std::printf("  confidence %.3f\n", b.confidence);
   }
   out["rejections"] = json::object();
-  for (int i = 0; i < sv::kNumRejectionCauses; ++i) {
-    const auto cause = static_cast<sv::RejectionCause>(i);
-    out["rejections"][sv::rejectionCauseName(cause)] = d.rejections[cause];
-  }
+  for (const auto& [name, count] : d.rejections.named(false)) out["rejections"][name] = count;
   std::printf("rejected: %s\n", d.rejections.summary().c_str());
 
   if (!o.json_out.empty()) {

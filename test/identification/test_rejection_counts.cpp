@@ -49,6 +49,29 @@ TEST(RejectionCounts, CauseNamesAreDistinctAndStable) {
   EXPECT_EQ(c.summary(), "gate 2, ball_area 1");
 }
 
+// One listing for JSON, diagnostics and the summary: every cause in the enum's order, or
+// the counted ones only.
+TEST(RejectionCounts, NamedListsEveryCauseOrTheCountedOnes) {
+  RejectionCounts counts;
+  counts.add(RejectionCause::Confidence, 2);
+  counts.add(RejectionCause::Area);
+  const auto all = counts.named(false);
+  ASSERT_EQ(all.size(), static_cast<std::size_t>(kNumRejectionCauses));
+  for (int i = 0; i < kNumRejectionCauses; ++i) {
+    const auto cause = static_cast<RejectionCause>(i);
+    EXPECT_STREQ(all[i].first, rejectionCauseName(cause));
+    EXPECT_EQ(all[i].second, counts[cause]);
+  }
+  const auto counted = counts.named(true);
+  ASSERT_EQ(counted.size(), 2u);
+  EXPECT_STREQ(counted[0].first, "area");
+  EXPECT_EQ(counted[0].second, 1);
+  EXPECT_STREQ(counted[1].first, "confidence");
+  EXPECT_EQ(counted[1].second, 2);
+  EXPECT_EQ(counts.summary(), "area 1, confidence 2");
+  EXPECT_EQ(RejectionCounts().summary(), "none");
+}
+
 TEST(RejectionCounts, CompleteRobotsAndABallRejectNothing) {
   const PatternSet p = PatternSet::twoTag();
   std::vector<Region> regions = robotRegions(p, Team::Blue, 1, -2.0, 0.5, 0.3);

@@ -7,6 +7,8 @@
 
 #include <array>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace soccer_vision {
 
@@ -50,6 +52,10 @@ struct RejectionCounts {
     for (int i = 0; i < kNumRejectionCauses; ++i) counts[i] += o.counts[i];
     return *this;
   }
+  // Each cause's name (rejectionCauseName) and count, in the enum's order; with
+  // `counted_only` the causes with a count only. The one listing that JSON, diagnostics
+  // and summary() are made from.
+  std::vector<std::pair<const char*, long>> named(bool counted_only) const;
   // "area 2, confidence 1" (causes with a count only); "none" when nothing was rejected.
   std::string summary() const;
 };

@@ -495,10 +495,7 @@ json scoreJson(const sv::RunEvaluation& e) {
 
 json measuredJson(const sv::MeasuredRate& m) {
   json by_cause = json::object();
-  for (int c = 0; c < sv::kNumRejectionCauses; ++c) {
-    const auto cause = static_cast<sv::RejectionCause>(c);
-    if (m.rejected_by_cause[cause] > 0) by_cause[sv::rejectionCauseName(cause)] = m.rejected_by_cause[cause];
-  }
+  for (const auto& [name, count] : m.rejected_by_cause.named(true)) by_cause[name] = count;
   return {{"visible", m.visible},
           {"measured", m.measured},
           {"rate", m.rate()},
