@@ -422,7 +422,7 @@ void claimHolesByNearestClass(const ColorTableParams& params,
         const double d2 = models[c].mahalanobis2(probes[i * kCellProbes + k]);
         if (!marker) {
           nearest_other = std::min(nearest_other, d2);
-        } else if (d2 <= best) {
+        } else if (nearest < 0 ? d2 <= best : d2 < best) {  // ties to the lower class, as Bayes's
           best = d2;
           nearest = c;
         }

@@ -55,7 +55,9 @@ std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const C
 
 // `fresh`, built from `samples`, with every class `samples` has no polygon for taken from
 // `previous` (ColorTable::withClassesFrom): a user who paints a few colours anew keeps the
-// others instead of a table that no longer sees them. Throws std::invalid_argument when
+// others instead of a table that no longer sees them. Build `fresh` without the fallback
+// of holes (ColorTableParams::fallback_sigmas 0): the kept classes have no Gaussian in it,
+// and the fallback would give their colours to the painted ones. Throws std::invalid_argument when
 // the tables' quantisation differs.
 ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,
                                 const ColorSamples& samples);
