@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -171,6 +172,27 @@ struct CameraChannel {
   std::map<int, sv::ColorSamples> drawn;  // every frame's, until the calibration frame is chosen
 };
 
+// The bag being written. A failed write (a full disk) throws; rosbag::Bag's destructor
+// would then close the file, write its index, throw again while the first exception
+// unwinds, and abort the process. So while an exception leaves this scope the Bag is let
+// go without its destructor (the process ends with the error), else destroyed as usual.
+class OutputBag {
+ public:
+  explicit OutputBag(const std::string& path)
+      : bag_(std::make_unique<rosbag::Bag>(path, rosbag::bagmode::Write)),
+        exceptions_(std::uncaught_exceptions()) {}
+  ~OutputBag() {
+    if (std::uncaught_exceptions() > exceptions_) static_cast<void>(bag_.release());
+  }
+  OutputBag(const OutputBag&) = delete;
+  OutputBag& operator=(const OutputBag&) = delete;
+  rosbag::Bag& bag() { return *bag_; }
+
+ private:
+  std::unique_ptr<rosbag::Bag> bag_;
+  int exceptions_;
+};
+
 int run(const Options& o) {
   if (o.calibration_frame != "auto") {
     const double n = std::stod(o.calibration_frame);
@@ -214,7 +236,8 @@ int run(const Options& o) {
     }
   }
 
-  rosbag::Bag bag(o.out, rosbag::bagmode::Write);
+  OutputBag output(o.out);
+  rosbag::Bag& bag = output.bag();
   bag.setCompression(o.compression == "lz4"   ? rosbag::compression::LZ4
                      : o.compression == "bz2" ? rosbag::compression::BZ2
                                               : rosbag::compression::Uncompressed);
