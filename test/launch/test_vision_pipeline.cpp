@@ -5,6 +5,7 @@
 // use; the driver's image buffer is the one segmentation reads (zero copy).
 //
 // Private parameters: ~duration [s] of scoring after the first tracked output (default 10),
+// ~first_output_within [s] of the test's start (default 60),
 // ~check_zero_copy (default true; false for images from rosbag play),
 // ~min_detection, ~min_precision, ~max_position_rmse [m], ~max_heading_rmse [deg],
 // ~min_ball_detection, ~min_ball_precision (the targets of the scenario under test).
@@ -105,12 +106,18 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const double duration = param("duration", 10.0);
-  // Start-up: the colour table is calibrated and loaded, the game starts.
-  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (ros::ok() && ros::WallTime::now() < give_up) {
+  // Start-up: the colour table is calibrated and loaded, the game starts (for a bag: the
+  // recording is made and calibrated first, over a minute on a loaded machine). Then the
+  // whole scoring duration after the first output, however late that came: a single
+  // deadline from the start scored 3 frames once, when the first output came just before it.
+  const double first_output_within = param("first_output_within", 60.0);
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(first_output_within);
+  while (ros::ok()) {
     {
       std::lock_guard<std::mutex> lock(rec.mutex);
-      if (!rec.robots.empty() && (ros::WallTime::now() - rec.first_output).toSec() > duration) break;
+      if (rec.robots.empty() ? ros::WallTime::now() > give_up
+                             : (ros::WallTime::now() - rec.first_output).toSec() > duration)
+        break;
     }
     ros::WallDuration(0.1).sleep();
   }
@@ -119,7 +126,7 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
   RobotPose robot;
   {
     std::lock_guard<std::mutex> lock(rec.mutex);
-    ASSERT_FALSE(rec.robots.empty()) << "no /vision/robots within 60 s";
+    ASSERT_FALSE(rec.robots.empty()) << "no /vision/robots within " << first_output_within << " s";
     for (const RobotPose& r : rec.robots.rbegin()->second->robots) {
       if (r.visible && r.id != 255) {
         robot = r;
