@@ -124,4 +124,10 @@ ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previ
   return fresh.withClassesFrom(previous, unsampled);
 }
 
+ColorTableParams paramsBesideKeptClasses(ColorTableParams params) {
+  params.fallback_sigmas = 0;
+  params.print_spread = 0;
+  return params;
+}
+
 }  // namespace soccer_vision

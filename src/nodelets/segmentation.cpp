@@ -754,11 +754,9 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     std::vector<CalibrationImage> images;
     for (const CalibratedFrame& f : frames) images.push_back(f.image);
     // Table + illumination reference of these frames, then the lookup: outside every lock.
-    // Over a table from a file the fresh table is built without the fallback of its holes
-    // (ColorTableParams::fallback_sigmas): the kept classes have no Gaussian in it, so the
-    // fallback would give their colours to the painted ones (keepUnsampledClasses).
-    if (merged && !joint) params.fallback_sigmas = 0;
-    ColorTable fresh = calibrateColorTable(images, params);
+    // Over a table from a file the fresh table leaves the kept classes' colours alone.
+    ColorTable fresh =
+        calibrateColorTable(images, merged && !joint ? paramsBesideKeptClasses(params) : params);
     if (merged && !joint) fresh = keepUnsampledClasses(fresh, current->classifier->table(), samples);
     auto table = std::make_shared<const ColorTable>(std::move(fresh));
     // Swapped in only when every sampled class kept cells: a table that lost one would

@@ -154,25 +154,72 @@ void appendClippedVariant(const SamplePixel& sample, double gain, std::vector<Hs
   lab.push_back(bgrToLab(n[0], n[1], n[2]));
 }
 
+// The factors a share of spread stands for: 1 − x and 1 / (1 − x) for x = 0.1, 0.15, … up
+// to `spread` (none below 0.1).
+constexpr double kSpreadStep = 0.05, kFirstSpreadStep = 0.1;
+
+std::vector<double> spreadFactors(double spread) {
+  std::vector<double> factors;
+  for (double x = kFirstSpreadStep; x <= spread + 1e-9; x += kSpreadStep) {
+    factors.push_back(1.0 - x);
+    factors.push_back(1.0 / (1.0 - x));
+  }
+  return factors;
+}
+
 // A robot marker's sample also stands for the same chromaticity up to `spread` darker and
 // brighter (ColorTableParams::brightness_spread): H and S are kept, V is scaled. Not the
 // ball's orange: its neighbours red and yellow are a few hue cells away, and brightness
 // variants of orange took their markers' cells on tuning seeds (docs/segmentation.md).
-constexpr double kBrightnessStep = 0.05, kFirstBrightnessStep = 0.1;
-
 void appendBrightnessVariants(const SamplePixel& sample, Hsv hsv, double spread, std::vector<Hsv>& hsv_out,
                               std::vector<Lab>& lab_out) {
   const int raw_v = std::max({sample.bgr[0], sample.bgr[1], sample.bgr[2]});
-  for (double x = kFirstBrightnessStep; x <= spread + 1e-9; x += kBrightnessStep) {
-    for (const double factor : {1.0 - x, 1.0 / (1.0 - x)}) {
-      const long v = std::lround(sample.v * factor);
-      if (v <= 0 || v > 255) continue;  // a brighter variant beyond the ceiling is not seen unclipped
-      hsv.v = static_cast<double>(v);
-      hsv_out.push_back(hsv);
-      const cv::Vec3b q = scaledToV(sample.bgr, raw_v, static_cast<int>(v));
-      lab_out.push_back(bgrToLab(q[0], q[1], q[2]));
-    }
+  for (const double factor : spreadFactors(spread)) {
+    const long v = std::lround(sample.v * factor);
+    if (v <= 0 || v > 255) continue;  // a brighter variant beyond the ceiling is not seen unclipped
+    hsv.v = static_cast<double>(v);
+    hsv_out.push_back(hsv);
+    const cv::Vec3b q = scaledToV(sample.bgr, raw_v, static_cast<int>(v));
+    lab_out.push_back(bgrToLab(q[0], q[1], q[2]));
   }
+}
+
+// Another print of a marker colour is another colour: on one held-out scene a sky-blue dot
+// read hue 185° where the calibration frame's only sky-blue dot read 197°, 25 ΔE away,
+// and no region formed. ColorTableParams::print_spread: the spread of colours that one
+// channel at 1 − x or 1 / (1 − x) of a valid sample's (clipped at 255) shows, as a
+// covariance in L*a*b*: per sample the mean outer product of those variants' offsets from
+// it, averaged over the samples. The class's Gaussian spans at least that (fitLabGaussian).
+// A sample of low saturation adds nothing (counts as zero): a channel of a grey changes its
+// hue wholesale, and such samples (a marker's rim, a washed-out print) would widen the
+// class in every direction.
+constexpr double kMinPrintSaturation = 0.25;
+
+Eigen::Matrix3d printVariantCovariance(const std::vector<SamplePixel>& pixels, const std::vector<Hsv>& hsv,
+                                       const std::vector<Lab>& lab, const std::vector<bool>& valid,
+                                       double spread) {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  const std::vector<double> factors = spreadFactors(spread);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (!valid[i]) continue;
+    ++n;
+    if (hsv[i].s < kMinPrintSaturation || factors.empty()) continue;
+    const cv::Vec3b p = normalisedColour(pixels[i]);
+    const Eigen::Vector3d own(lab[i].l, lab[i].a, lab[i].b);
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      for (const double f : factors) {
+        cv::Vec3b q = p;
+        q[k] = cv::saturate_cast<std::uint8_t>(p[k] * f);
+        const Lab x = bgrToLab(q[0], q[1], q[2]);
+        const Eigen::Vector3d d = Eigen::Vector3d(x.l, x.a, x.b) - own;
+        outer += d * d.transpose();
+      }
+    }
+    sum += outer / static_cast<double>(3 * factors.size());
+  }
+  return n == 0 ? sum : Eigen::Matrix3d(sum / static_cast<double>(n));
 }
 
 // The ball sits on the carpet: its rim, and all of it when it moves during the exposure,
@@ -363,7 +410,10 @@ Eigen::Vector3d meanLab(const std::vector<Lab>& colours) {
   return mean;
 }
 
-LabGaussian fitLabGaussian(const std::vector<Lab>& valid, const ColorTableParams& params) {
+// `least`: a covariance the samples' own must at least reach (printVariantCovariance):
+// along each of its eigenvectors, what theirs lacks is added; the mean stays.
+LabGaussian fitLabGaussian(const std::vector<Lab>& valid, const ColorTableParams& params,
+                           const Eigen::Matrix3d& least = Eigen::Matrix3d::Zero()) {
   LabGaussian g;
   const double n = static_cast<double>(valid.size());
   g.mean = meanLab(valid);
@@ -371,6 +421,14 @@ LabGaussian fitLabGaussian(const std::vector<Lab>& valid, const ColorTableParams
   for (const Lab& x : valid) {
     const Eigen::Vector3d d = Eigen::Vector3d(x.l, x.a, x.b) - g.mean;
     cov += d * d.transpose() / n;
+  }
+  if (!least.isZero()) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(least);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d e = eigen.eigenvectors().col(k);
+      const double lacking = eigen.eigenvalues()(k) - e.dot(cov * e);
+      if (lacking > 0) cov += lacking * e * e.transpose();
+    }
   }
   cov += Eigen::Vector3d(params.spread_l * params.spread_l, params.spread_ab * params.spread_ab,
                          params.spread_ab * params.spread_ab)
@@ -675,6 +733,7 @@ void ColorTableParams::validate() const {
     fail("spread_l and spread_ab must be in (0, 100]");
   }
   if (!(brightness_spread >= 0 && brightness_spread <= 0.5)) fail("brightness_spread must be in 0..0.5");
+  if (!(print_spread >= 0 && print_spread <= 0.5)) fail("print_spread must be in 0..0.5");
   if (!(ball_carpet_mix >= 0 && ball_carpet_mix <= 0.5)) fail("ball_carpet_mix must be in 0..0.5");
   if (!(ball_carpet_unmix >= 0 && ball_carpet_unmix <= 0.5)) fail("ball_carpet_unmix must be in 0..0.5");
   auto check = [&](const ClassThresholds& t, const std::string& who) {
@@ -849,7 +908,11 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     }
     if (generalize && !valid.empty()) {
       ClassModel& model = lab_models[static_cast<std::size_t>(color)];
-      model.parts.push_back(fitLabGaussian(valid_lab, params));
+      const Eigen::Matrix3d least =
+          params.print_spread > 0 && isRobotMarkerColor(color)
+              ? printVariantCovariance(pixels, hsv, lab, centre.valid, params.print_spread)
+              : Eigen::Matrix3d::Zero();
+      model.parts.push_back(fitLabGaussian(valid_lab, params, least));
       for (const std::vector<Lab>& level : mixture_levels) {
         LabGaussian moved = model.parts.front();
         moved.mean = meanLab(level);

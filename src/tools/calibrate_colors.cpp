@@ -82,6 +82,10 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
                  "share of brightness a robot marker's samples also stand for, darker and brighter; 0: off")
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
+  app.add_option("--print-spread", o.params.print_spread,
+                 "share by which one channel of a robot marker's samples may differ in another print; 0: off")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
   app.add_option("--ball-carpet-mix", o.params.ball_carpet_mix,
                  "share of the carpet's colour the ball's samples are also mixed with; 0: off")
       ->check(CLI::Range(0.0, 0.5))

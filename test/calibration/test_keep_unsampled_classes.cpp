@@ -44,10 +44,9 @@ TEST(KeepUnsampledClasses, RecalibratingOneColourKeepsTheOthers) {
   const ColorTable previous = ColorTable::build({{ColorClass::Blue, around(220, 0.8, 150)},
                                                  {ColorClass::Yellow, around(55, 0.8, 200)},
                                                  {ColorClass::Pink, around(330, 0.5, 200)}});
-  ColorTableParams no_fallback;  // as keepUnsampledClasses asks: else pink's fallback takes blue's colours
-  no_fallback.fallback_sigmas = 0;
   const ColorTable fresh = ColorTable::build(
-      {{ColorClass::Pink, around(315, 0.6, 170)}, {ColorClass::Carpet, around(120, 0.5, 90)}}, no_fallback);
+      {{ColorClass::Pink, around(315, 0.6, 170)}, {ColorClass::Carpet, around(120, 0.5, 90)}},
+      paramsBesideKeptClasses(ColorTableParams()));
   ASSERT_EQ(classify(fresh, blue), ColorClass::None);  // the strokes alone forget blue
 
   const ColorTable merged =

@@ -357,6 +357,7 @@ TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   ColorTableParams off;
   off.brightness_spread = 0;
   off.fallback_sigmas = 0;  // which would also reach them, from farther away
+  off.print_spread = 0;     // likewise: a darker print
   const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
   for (const double f : {0.7, 0.6}) {
     // The samples' mean colour at f of its normalised brightness (V 210).
@@ -373,6 +374,50 @@ TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   // The statistics count real samples only.
   EXPECT_EQ(with.statistics().classes[static_cast<int>(ColorClass::Pink)].valid, 12u);
   off.brightness_spread = 0.6;
+  EXPECT_THROW(off.validate(), std::invalid_argument);
+}
+
+TEST(ColorTable, AnotherPrintOfAColourSampledOnOneMarkerKeepsItsColour) {
+  // One frame showed one sky-blue dot, hue 198°; another robot's dot is another print,
+  // hue 182°, 28 ΔE away (a held-out scene had 197° and 185°). With print_spread the
+  // class's Gaussian spans one channel of its samples 10 % off, and reaches it; without,
+  // it is a hole. Blue, green, the carpet, the lines and the robot top keep their colours,
+  // and the classes that are no robot marker's (the lines' white) claim what they did.
+  ClassSamplePixels samples;
+  for (int i = 0; i < 16; ++i) {
+    const int d = i % 5 - 2, e = i % 3 - 1;
+    auto add = [&](ColorClass c, cv::Vec3b p) { samples[c].push_back({p, std::max({p[0], p[1], p[2]})}); };
+    add(ColorClass::SkyBlue, cv::Vec3b(230 + e, 180 + d, 60 - d));
+    add(ColorClass::Blue, cv::Vec3b(200 + d, 90 + e, 30 - d));
+    add(ColorClass::Green, cv::Vec3b(60 + d, 180 + e, 40 - d));
+    add(ColorClass::Carpet, cv::Vec3b(50 + d, 125 - d, 55 + e));
+    add(ColorClass::Line, cv::Vec3b(235 + e, 235 + d, 230 - d));
+    add(ColorClass::RobotTop, cv::Vec3b(25 + d, 22, 20 - e));
+  }
+  ColorTableParams off;
+  off.print_spread = 0;
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples);
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off);
+  EXPECT_EQ(with.classify(230, 224, 60), ColorClass::SkyBlue);
+  EXPECT_NE(without.classify(230, 224, 60), ColorClass::SkyBlue);
+  EXPECT_EQ(with.classify(230, 180, 60), ColorClass::SkyBlue);
+  EXPECT_EQ(with.classify(200, 90, 30), ColorClass::Blue);
+  EXPECT_EQ(with.classify(60, 180, 40), ColorClass::Green);
+  EXPECT_EQ(with.classify(50, 125, 55), ColorClass::Carpet);
+  EXPECT_EQ(with.classify(235, 235, 230), ColorClass::Line);
+  EXPECT_EQ(with.classify(25, 22, 20), ColorClass::RobotTop);
+  const auto claimed = [](const ColorTable& t, ColorClass c) {
+    return t.statistics().classes[static_cast<int>(c)].cells_claimed;
+  };
+  EXPECT_EQ(claimed(with, ColorClass::Line), claimed(without, ColorClass::Line));
+  EXPECT_GT(claimed(with, ColorClass::SkyBlue), claimed(without, ColorClass::SkyBlue));
+  // Samples of low saturation (a rim, a washed-out print) add no spread of their own.
+  ClassSamplePixels pale = samples;
+  pale[ColorClass::SkyBlue].clear();
+  for (int i = 0; i < 16; ++i) pale[ColorClass::SkyBlue].push_back({cv::Vec3b(230, 215 + i % 5, 200), 230});
+  EXPECT_EQ(claimed(ColorTable::buildFromSamplePixels(pale), ColorClass::SkyBlue),
+            claimed(ColorTable::buildFromSamplePixels(pale, off), ColorClass::SkyBlue));
+  off.print_spread = 0.6;
   EXPECT_THROW(off.validate(), std::invalid_argument);
 }
 

@@ -551,8 +551,9 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 // the nearest marker (ColorTableParams::fallback_sigmas 4.5) makes more hits survive the
 // hit check, whose patches are classified before the tiles: 1.52x the frame's pixels
 // classified, 64-67x a normal frame on a quiet machine (3.5 sigmas: 1.16x, 44x; 6 sigmas:
-// 1.91x, 75x). So the time bound is loose and the pixel count, which does not depend on the
-// machine, is the tight one.
+// 1.91x, 75x). Another print's spread of the markers (ColorTableParams::print_spread 0.1):
+// 1.78x the frame's pixels, 47-61x a normal frame. So the time bound is loose and the pixel
+// count, which does not depend on the machine, is the tight one.
 TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   ScenarioConfig scenario;
   const FieldGeometry field;
@@ -580,7 +581,7 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
       noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
   EXPECT_EQ(regions.size(), 0u);
   EXPECT_LE(noise_ms, 150 * normal_ms);
-  EXPECT_LE(noise_stats.classified_pixels, noise.total() * 160 / 100);
+  EXPECT_LE(noise_stats.classified_pixels, noise.total() * 2);
 }
 
 TEST(RegionExtractorOnRenderedFrames, EveryVisibleMarkerGivesOneRegionAtItsProjectedCentre) {

@@ -53,13 +53,18 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images,
 // cannot see that colour at all; ~calibrate refuses it.
 std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const ColorTable& table);
 
-// `fresh`, built from `samples`, with every class `samples` has no polygon for taken from
-// `previous` (ColorTable::withClassesFrom): a user who paints a few colours anew keeps the
-// others instead of a table that no longer sees them. Build `fresh` without the fallback
-// of holes (ColorTableParams::fallback_sigmas 0): the kept classes have no Gaussian in it,
-// and the fallback would give their colours to the painted ones. Throws std::invalid_argument when
-// the tables' quantisation differs.
+// `fresh`, built from `samples` with paramsBesideKeptClasses, with every class `samples`
+// has no polygon for taken from `previous` (ColorTable::withClassesFrom): a user who paints
+// a few colours anew keeps the others instead of a table that no longer sees them. Throws
+// std::invalid_argument when the tables' quantisation differs.
 ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,
                                 const ColorSamples& samples);
+
+// `params` for the fresh table of keepUnsampledClasses: without what reaches beyond the
+// painted classes' samples into colours no class of the fresh table was sampled on — the
+// fallback of holes (fallback_sigmas) and another print's spread (print_spread). The kept
+// classes have no Gaussian in it to compete, so those would give their colours to the
+// painted ones, and a painted cell wins over a kept one.
+ColorTableParams paramsBesideKeptClasses(ColorTableParams params);
 
 }  // namespace soccer_vision

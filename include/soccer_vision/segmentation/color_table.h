@@ -115,6 +115,14 @@ struct ColorTableParams {
   // prints differ, and a small marker's blur with the black robot top dims it without
   // changing its hue. 0 = off. docs/segmentation.md: 0.2 by measurement on tuning seeds.
   double brightness_spread = 0.2;
+  // With generalisation: a robot marker class's L*a*b* Gaussian spans at least the colours
+  // of its valid samples with one channel at 1 − x and 1 / (1 − x) (x = 0.1, 0.15, … up to
+  // this share; clipped at 255): another print of the same colour, whose ink differs from
+  // the one sampled (one held-out scene's second sky-blue print was 25 ΔE from the
+  // first). Samples of HSV saturation below 0.25 add nothing. Along each direction of that
+  // spread only what the samples' own covariance lacks is added; the mean stays. 0 = off.
+  // docs/segmentation.md: 0.1 by measurement (0.15 lost heading and interiors on tuning data).
+  double print_spread = 0.1;
   // With generalisation and carpet samples, the ball's mixtures with the carpet: its rim,
   // and the whole ball while it moves during the exposure, mix with the carpet it rolls on.
   // The ball's orange is also a Gaussian at each level of the valid samples mixed with
