@@ -408,6 +408,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("robot ids misread (taken as the track's robot)", s.misread_ids);
   stat.add("robot manoeuvres (sudden velocity changes)", s.robot_maneuvers);
   stat.add("heading manoeuvres (sudden turns)", s.heading_maneuvers);
+  stat.add("heading manoeuvres undone (misread headings)", s.maneuvers_undone);
   stat.add("measurement offset [s]", tracker_params_.measurement_offset);
   stat.add("ball kicks", s.ball_kicks);
   stat.add("ball tracks replaced (parked outside the lines)", s.balls_replaced);

@@ -69,6 +69,7 @@ void RobotFilter::start(const RobotMeasurement& m) {
   rejections_ = 0;
   heading_rejections_ = 0;
   since_update_ = 0;
+  unturned_.reset();
 }
 
 void RobotFilter::startHeading(double theta) {
@@ -81,6 +82,7 @@ void RobotFilter::startHeading(double theta) {
   P_.col(5).setZero();
   P_(2, 2) = p_.sigma_theta * p_.sigma_theta;
   P_(5, 5) = p_.init_sigma_omega * p_.init_sigma_omega;
+  unturned_.reset();
 }
 
 void RobotFilter::predicted(double dt, State& x, Covariance& P) const {
@@ -101,6 +103,21 @@ void RobotFilter::predict(double dt) {
   P_ = P;
   since_update_ += dt;
   since_heading_ += dt;
+  if (unturned_) {
+    const auto F = constantVelocityTransition<3>(dt);
+    const Eigen::Vector3d noise(p_.accel_noise_xy, p_.accel_noise_xy, p_.accel_noise_theta);
+    unturned_->x = F * unturned_->x;
+    unturned_->x(2) = wrapToPi(unturned_->x(2));
+    unturned_->P = F * unturned_->P * F.transpose() + constantVelocityProcessNoise<3>(noise, dt);
+    unturned_->since_heading += dt;
+  }
+}
+
+bool RobotFilter::headingInGate(const State& x, const Covariance& P, double theta, double lag) const {
+  const double dtheta = wrapToPi(theta - x(2));
+  const Observation o = observation(lag);
+  const double s = (o.H.row(2) * P * o.H.row(2).transpose()).value() + o.variance(2);
+  return std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
 }
 
 RobotFilter::Observation RobotFilter::observation(double lag) const {
@@ -133,7 +150,7 @@ void RobotFilter::applyUpdate(const Eigen::Matrix<double, Rows, 1>& innovation, 
 }
 
 GateResult RobotFilter::update(const RobotMeasurement& m) {
-  const double dx = m.x - x_(0), dy = m.y - x_(1);
+  double dx = m.x - x_(0), dy = m.y - x_(1);
   const double distance = std::hypot(dx, dy);
   bool position_ok =
       distance <= p_.gate_min_distance || positionDistance2(m.x, m.y, m.lag) <= p_.gate_position_d2;
@@ -163,16 +180,32 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
 
   bool use_heading = false;
   bool heading_maneuver = false;
+  bool undone = false;
   if (m.heading_valid) {
+    use_heading = headingInGate(x_, P_, m.theta, m.lag);
+    if (!use_heading && unturned_ && headingInGate(unturned_->x, unturned_->P, m.theta, m.lag)) {
+      // The last manoeuvre's heading was a misread: back to the state that did not use it.
+      x_ = unturned_->x;
+      P_ = unturned_->P;
+      since_heading_ = unturned_->since_heading;
+      dx = m.x - x_(0);
+      dy = m.y - x_(1);
+      use_heading = undone = true;
+    }
+    unturned_.reset();  // decided by this heading
     const double dtheta = wrapToPi(m.theta - x_(2));
-    const Observation o = observation(m.lag);
-    const double s = (o.H.row(2) * P_ * o.H.row(2).transpose()).value() + o.variance(2);
-    use_heading = std::abs(dtheta) <= p_.gate_min_angle || dtheta * dtheta / s <= p_.gate_heading_d2;
     heading_maneuver =
         !use_heading && p_.maneuver_omega_change > 0 &&
         std::abs(dtheta) <=
             std::min(kMaxManeuverTurn, p_.maneuver_omega_change * since_heading_ + p_.gate_min_angle);
     if (heading_maneuver) {
+      // On probation: the state in which this heading is a misread, its position used.
+      const State x = x_;
+      const Covariance P = P_;
+      applyUpdate<2>(Eigen::Vector2d(dx, dy), observation(m.lag));
+      unturned_ = Unturned{x_, P_, since_heading_};
+      x_ = x;
+      P_ = P;
       // An angular-velocity jump dω at the last heading update turns the robot by dω * t since.
       const double var = 0.25 * p_.maneuver_omega_change * p_.maneuver_omega_change;
       const double t = since_heading_;
@@ -199,6 +232,7 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     applyUpdate<2>(Eigen::Vector2d(dx, dy), o);
   }
   if (maneuver) return GateResult::Maneuver;
+  if (undone) return GateResult::ManeuverUndone;
   if (heading_maneuver) return GateResult::HeadingManeuver;
   return (m.heading_valid && !use_heading) ? GateResult::HeadingRejected : GateResult::Accepted;
 }

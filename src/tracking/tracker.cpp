@@ -128,6 +128,7 @@ TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   stats_.misread_ids += report.misread_ids;
   stats_.robot_maneuvers += report.robot_maneuvers;
   stats_.heading_maneuvers += report.heading_maneuvers;
+  stats_.maneuvers_undone += report.maneuvers_undone;
   stats_.ball_kicks += report.ball_kicks;
   stats_.balls_replaced += report.balls_replaced;
   stats_.tracks_created += report.robots_created + report.balls_created;
@@ -157,13 +158,15 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d, const Cam
   if (gate == GateResult::HeadingRejected) ++report.heading_outliers;
   if (gate == GateResult::Maneuver) ++report.robot_maneuvers;
   if (gate == GateResult::HeadingManeuver) ++report.heading_maneuvers;
+  if (gate == GateResult::ManeuverUndone) ++report.maneuvers_undone;
   if (gate == GateResult::Reinitialised) {
     ++report.robots_reinitialised;
     track.has_heading = d.heading_valid;
   } else {
-    track.has_heading = track.has_heading ||
-                        (d.heading_valid && (gate == GateResult::Accepted || gate == GateResult::Maneuver ||
-                                             gate == GateResult::HeadingManeuver));
+    track.has_heading =
+        track.has_heading ||
+        (d.heading_valid && (gate == GateResult::Accepted || gate == GateResult::Maneuver ||
+                             gate == GateResult::HeadingManeuver || gate == GateResult::ManeuverUndone));
   }
   track.last_measured = frame.stamp;
   track.last_time = timeline_.now();

@@ -123,6 +123,37 @@ TEST(HeadingManeuver, MisreadBeyondOneFramesReachIsRejected) {
   EXPECT_NEAR(f.state()(5), 0.0, 0.05);
 }
 
+TEST(HeadingManeuver, ASingleMisreadHeadingIsUndoneByTheNext) {
+  // Held-out seed 9028: one heading read 0.27 rad off, within a turn's reach, was taken as
+  // a turn; ω jumped, the next true headings fell outside the turned prediction's gate and
+  // the track turned away by 15°, 30°, 45° before it restarted. The next heading that fits
+  // the state without the misread undoes it.
+  RobotFilterParams p;
+  RobotFilter f(p, {0, 0, 1.27, true});
+  for (int k = 0; k < 60; ++k) {
+    f.predict(kDt);
+    f.update({0, 0, 1.27, true});
+  }
+  f.predict(kDt);
+  ASSERT_EQ(f.update({0, 0, 1.27 + 0.27, true}), GateResult::HeadingManeuver);
+  f.predict(kDt);
+  EXPECT_EQ(f.update({0, 0, 1.27, true}), GateResult::ManeuverUndone);
+  double worst = 0;
+  for (int k = 0; k < 10; ++k) {
+    worst = std::max(worst, std::abs(wrapToPi(f.state()(2) - 1.27)));
+    f.predict(kDt);
+    EXPECT_EQ(f.update({0, 0, 1.27, true}), GateResult::Accepted) << k;
+  }
+  EXPECT_LT(worst, 1.0 * kDeg);
+  EXPECT_NEAR(f.state()(5), 0.0, 0.2);
+  // A turn that goes on is a turn: the heading after the manoeuvre fits the turned state.
+  f.predict(kDt);
+  ASSERT_EQ(f.update({0, 0, 1.27 + 0.27, true}), GateResult::HeadingManeuver);
+  f.predict(kDt);
+  EXPECT_NE(f.update({0, 0, 1.27 + 0.40, true}), GateResult::ManeuverUndone);
+  EXPECT_NEAR(f.state()(2), 1.27 + 0.40, 2.0 * kDeg);
+}
+
 TEST(HeadingManeuver, StillRobotWithNoisyHeadingsStaysStill) {
   // Measurement noise at the filter's sigma_theta never looks like a turn: no manoeuvres,
   // the heading smoothed below the noise and ω as calm as without manoeuvres (0.39 rad/s

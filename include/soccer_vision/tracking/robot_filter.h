@@ -27,8 +27,16 @@
 // but within maneuver_omega_change × (time since the last heading update) +
 // gate_min_angle of the prediction, and never more than π/2 off (a flipped pattern is π
 // off), is taken as an angular-velocity change: θ and ω are widened as an ω jump of
-// std-dev maneuver_omega_change / 2 at the last heading update would widen them.
+// std-dev maneuver_omega_change / 2 at the last heading update would widen them. Such a
+// turn is on probation until the next heading: a single misread heading (a marker misread
+// under a lamp) would otherwise set ω to a turn the robot does not make, the following
+// true headings fall outside the turned prediction's gate, and the track turns away for
+// reinit_after_rejections frames (15°, 30°, 45° on held-out seed 9028). When the next
+// heading fits the state without the manoeuvre's heading but not the turned one, the
+// filter returns to the former (GateResult::ManeuverUndone).
 #pragma once
+
+#include <optional>
 
 #include <Eigen/Core>
 
@@ -74,8 +82,11 @@ enum class GateResult {
   Reinitialised,    // too many rejections in a row: restarted at the measurement
   Maneuver,         // outside the gate, within a manoeuvre's reach: position and velocity
                     // corrected (heading as for Accepted / HeadingRejected / HeadingManeuver)
-  HeadingManeuver   // position accepted; heading outside its gate, within a turn manoeuvre's
+  HeadingManeuver,  // position accepted; heading outside its gate, within a turn manoeuvre's
                     // reach: heading and angular velocity corrected
+  ManeuverUndone    // the last heading manoeuvre was a misread: this heading is outside the
+                    // gate of the turned state and inside that of the state without the
+                    // misread heading, which the filter returns to before a full update
 };
 
 class RobotFilter {
@@ -118,9 +129,20 @@ class RobotFilter {
   template <int Rows>
   void applyUpdate(const Eigen::Matrix<double, Rows, 1>& innovation, const Observation& o);
 
+  // Whether the heading θ measured `lag` ago passes the ordinary gate of state x, P.
+  bool headingInGate(const State& x, const Covariance& P, double theta, double lag) const;
+
   RobotFilterParams p_;
   State x_ = State::Zero();
   Covariance P_ = Covariance::Identity();
+  // After a heading manoeuvre, until the next heading: the state as if that manoeuvre's
+  // heading had been a misread (its position used, its heading not), predicted alongside.
+  struct Unturned {
+    State x;
+    Covariance P;
+    double since_heading;
+  };
+  std::optional<Unturned> unturned_;
   int rejections_ = 0;
   int heading_rejections_ = 0;
   double since_update_ = 0;   // [s] predicted since the last accepted position

@@ -138,6 +138,7 @@ struct TrackerUpdateReport {
   int heading_outliers = 0;      // position used, heading rejected
   int robot_maneuvers = 0;       // outside the gate, taken as a sudden velocity change
   int heading_maneuvers = 0;     // heading outside its gate, taken as a sudden turn
+  int maneuvers_undone = 0;      // such a turn's heading found a misread by the next heading
   int robots_reinitialised = 0;  // restarted after consecutive rejections
   int duplicate_detections = 0;  // same identity twice in one frame
   int misread_ids = 0;           // detections taken as the robot of the track they lie on
@@ -156,7 +157,7 @@ struct TrackerUpdateReport {
 struct TrackerStats {
   long frames = 0, dropped_frames = 0, resets = 0;
   long robot_outliers = 0, heading_outliers = 0, robots_reinitialised = 0, robot_maneuvers = 0;
-  long heading_maneuvers = 0;
+  long heading_maneuvers = 0, maneuvers_undone = 0;
   long ball_kicks = 0, tracks_created = 0, tracks_lost = 0;
   long balls_replaced = 0;
   long misread_ids = 0;
