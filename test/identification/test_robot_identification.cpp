@@ -359,6 +359,43 @@ TEST(RobotIdentification, SslMissingDotIdOnlyWhenUnambiguous) {
   EXPECT_EQ(found8b[0].id, 6);
 }
 
+TEST(RobotIdentification, ACompletePatternVouchesForAShrunkenTeamMarker) {
+  // Held-out seed 9028: a robot's yellow was another print, and only a fifth of its centre
+  // dot read yellow. Amid four id dots where the fit puts them it is still the team dot;
+  // with one id dot missing, or a two-tag robot's single role tag, it is not.
+  auto shrunk = [](const PatternSet& p, const std::vector<RobotState>& robots, double share,
+                   const std::function<bool(std::size_t, std::size_t)>& skip = {}) {
+    std::vector<Region> regions = regionsOf(p, robots, skip);
+    for (Region& r : regions) {
+      if (r.color == ColorClass::Yellow) r.area = static_cast<std::uint32_t>(std::lround(r.area * share));
+    }
+    return regions;
+  };
+  const std::vector<RobotState> ssl = {robot(Team::Yellow, 4, 1.0, 0.5, 20)};
+  const RobotIdentifier id(kCamera, PatternSet::ssl());
+  const auto found = id.identify(shrunk(PatternSet::ssl(), ssl, 0.2)).robots;
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].id, 4);
+  EXPECT_LT(std::hypot(found[0].x - 1.0, found[0].y - 0.5), 0.0005);
+  // A twentieth of it is no team dot however complete the pattern.
+  EXPECT_TRUE(id.identify(shrunk(PatternSet::ssl(), ssl, 0.05)).robots.empty());
+  // Ids 0..7: without its front-right dot (always green) the id is still known, but the
+  // pattern is incomplete: the shrunken dot is rejected on its area, the whole one is not.
+  PatternSet eight = PatternSet::ssl();
+  eight.ids.resize(8);
+  const RobotIdentifier id8(kCamera, eight);
+  const std::vector<RobotState> five = {robot(Team::Yellow, 5, 1.0, 0.5, 20)};
+  auto front_right = [](std::size_t, std::size_t m) { return m == 1; };
+  ASSERT_EQ(id8.identify(shrunk(eight, five, 1.0, front_right)).robots.size(), 1u);
+  const auto incomplete = id8.identify(shrunk(eight, five, 0.2, front_right));
+  EXPECT_TRUE(incomplete.robots.empty());
+  EXPECT_GT(incomplete.rejections[RejectionCause::Area], 0);
+  const std::vector<RobotState> two_tag = {robot(Team::Yellow, 2, 1.0, 0.5, 20)};
+  EXPECT_TRUE(RobotIdentifier(kCamera, PatternSet::twoTag())
+                  .identify(shrunk(PatternSet::twoTag(), two_tag, 0.2))
+                  .robots.empty());
+}
+
 // Extra blobs of every marker colour and size around real robots: no extra robot, no
 // wrong id, the robots unchanged. Includes the nasty ones: a role-colour blob at exactly
 // the role-tag distance from a team tag but across its axis, and a blob of the right

@@ -52,7 +52,8 @@ struct RobotIdentificationParams {
   // class (0.17-0.4 of the expected area; the blend with the black top is darker than any
   // calibration sample), and under Bayer noise + JPEG a few of its ~13 quads are missed
   // (~0.3). 2.5 rejected them: 83 % of the robots identified per flicker_noise frame and
-  // 98.6 % of fast_motion's; 3.5: 91 % and 99.1 %, no identity error on any preset.
+  // 98.6 % of fast_motion's; 3.5: 91 % and 99.1 %, no identity error on any preset. The
+  // team marker of a complete pattern of three or more id markers: within [1/g², g²].
   double area_ratio_gate = 3.5;
   double area_sigma = 0.35;            // scoring scale of ln(observed / expected area)
   int max_missing_markers = 1;         // id markers a robot may lack and still be reported
