@@ -216,7 +216,7 @@ PatternSet parsePatternSet(const std::string& yaml_text, const std::string& sour
           fail(source, "'" + c.as<std::string>() + "' is not a marker colour");
         }
         // The ball's colour and the team colours are found as such, never as an id.
-        if (*cls == ColorClass::Orange || *cls == ColorClass::Blue || *cls == ColorClass::Yellow) {
+        if (*cls == ColorClass::Orange || isTeamColor(*cls)) {
           fail(source, "id " + std::to_string(p.ids.size()) + ": '" + c.as<std::string>() +
                            "' is not an id colour (orange is the ball's, blue and yellow the teams')");
         }

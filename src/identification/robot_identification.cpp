@@ -115,7 +115,7 @@ class Matcher {
     }
     for (std::size_t r = 0; r < regions.size(); ++r) {
       const ColorClass c = regions[r].color;
-      const bool team = c == ColorClass::Blue || c == ColorClass::Yellow;
+      const bool team = isTeamColor(c);
       bool id_marker = (id_colors & colorBit(c)) != 0;
       if (!team && !id_marker) continue;
       // Shape and axis are used for team tags only, on their team's plane (the colour says

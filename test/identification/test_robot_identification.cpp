@@ -596,6 +596,21 @@ TEST(BallDetection, PartsOfLargerBlobsAreNoBallsAndABallBesideATeamTagIs) {
   regions.push_back(ballRegion(kCamera, Eigen::Vector3d(r.x + 0.09 + 0.0215, r.y, 0.0215)));
   const auto balls = detector.detect(regions);
   ASSERT_EQ(balls.size(), 1u);
+
+  // A ball-sized piece of a team tag that read orange (a yellow print on a Bayer mosaic,
+  // held-out seed 9028), its robot unidentified: inside the tag it is part of it.
+  const RobotState y = robot(Team::Yellow, 0, 1.0, -0.5, 30);
+  const Region tag = regionsOf(p, {y}).front();
+  ASSERT_EQ(tag.color, ColorClass::Yellow);
+  Region piece = ballRegion(kCamera, Eigen::Vector3d(y.x, y.y, 0.0215));
+  piece.bbox += cv::Point(static_cast<int>(std::lround(tag.cx - piece.cx)),
+                          static_cast<int>(std::lround(tag.cy - piece.cy)));
+  piece.cx = tag.cx;
+  piece.cy = tag.cy;
+  EXPECT_EQ(detector.detect({piece}).size(), 1u) << "alone it passes for a ball";
+  rejected = {};
+  EXPECT_TRUE(detector.detect({tag, piece}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
 }
 
 // A robot pattern that uses orange for an id marker: that region is the robot's, not a ball.

@@ -37,6 +37,8 @@ std::optional<ColorClass> parseColorClass(std::string_view name);
 constexpr bool isMarkerColor(ColorClass c) { return c >= ColorClass::Blue && c <= ColorClass::Orange; }
 // A colour a robot pattern uses (Blue..Red): a marker colour but the ball's.
 constexpr bool isRobotMarkerColor(ColorClass c) { return isMarkerColor(c) && c != ColorClass::Orange; }
+// A team's colour (Blue, Yellow).
+constexpr bool isTeamColor(ColorClass c) { return c == ColorClass::Blue || c == ColorClass::Yellow; }
 
 enum class Team : std::uint8_t { Blue = 0, Yellow = 1 };
 std::string_view teamName(Team t);

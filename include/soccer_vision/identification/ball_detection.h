@@ -80,9 +80,10 @@ class BallDetector {
   // The robots' tops in the image, once per frame (none when robot_top_fraction is 0).
   std::vector<ImageDisc> robotTops(const std::vector<RobotDetection>& robots) const;
   // Whether a region larger than blob_area_ratio x `expected_area` reaches within one ball
-  // `diameter` [px] of `pixel`.
-  bool onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel, double expected_area,
-                   double diameter) const;
+  // `diameter` [px] of `pixel`, or `pixel` lies inside the bounding box of a team-coloured
+  // region larger than the cluster (`cluster_area`).
+  bool onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel, double cluster_area,
+                   double expected_area, double diameter) const;
   // Whether an image point lies within robot_top_fraction of one of those tops.
   bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const;
 
