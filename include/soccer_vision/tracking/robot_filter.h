@@ -129,6 +129,8 @@ class RobotFilter {
   template <int Rows>
   void applyUpdate(const Eigen::Matrix<double, Rows, 1>& innovation, const Observation& o);
 
+  // x0, P0 advanced by dt >= 0 seconds (the constant-velocity model and its noise).
+  void propagate(double dt, const State& x0, const Covariance& P0, State& x, Covariance& P) const;
   // Whether the heading θ measured `lag` ago passes the ordinary gate of state x, P.
   bool headingInGate(const State& x, const Covariance& P, double theta, double lag) const;
 
