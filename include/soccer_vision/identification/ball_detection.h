@@ -81,7 +81,7 @@ class BallDetector {
   std::vector<ImageDisc> robotTops(const std::vector<RobotDetection>& robots) const;
   // Whether a region larger than blob_area_ratio x `expected_area` reaches within one ball
   // `diameter` [px] of `pixel`, or `pixel` lies inside the bounding box of a team-coloured
-  // region larger than the cluster (`cluster_area`).
+  // region larger than the cluster (`cluster_area`). Both off when blob_area_ratio is 0.
   bool onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel, double cluster_area,
                    double expected_area, double diameter) const;
   // Whether an image point lies within robot_top_fraction of one of those tops.
