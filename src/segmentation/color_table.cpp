@@ -286,6 +286,33 @@ bool clippedTwice(const cv::Vec3b& p) {
   return (p[0] >= kClipLevel) + (p[1] >= kClipLevel) + (p[2] >= kClipLevel) >= 2;
 }
 
+// Further up the same path the second channel clips too (ColorTableParams::clipped_twice_path):
+// a yellow whose red clips at 1.0 times the mean light has its green clipped from 1.3 on and
+// reads (53, 255, 255), then (64, 255, 255) at 1.56: hue 60° and a saturation that falls as
+// the light rises, a colour of no unclipped sample. Such a colour tells nothing of the hue,
+// so it does not shape the Gaussian; each step of the path up to the brightest light claims
+// its own cells (V normalised back, as at run time) like a sample clipped twice does.
+constexpr double kClipPathStep = 0.05;
+
+void appendClippedTwicePath(const SamplePixel& sample, double brightest, std::vector<Hsv>& body) {
+  const int raw_v = std::max({sample.bgr[0], sample.bgr[1], sample.bgr[2]});
+  if (raw_v == 0 || sample.v == 0) return;
+  double p[3];
+  for (int k = 0; k < 3; ++k) p[k] = sample.bgr[k] * static_cast<double>(sample.v) / raw_v;
+  const double mid = std::max({std::min(p[0], p[1]), std::min(p[1], p[2]), std::min(p[0], p[2])});
+  if (mid <= 0) return;
+  for (double gain = std::max(1.0, 255.0 / mid); gain <= brightest + 1e-9; gain += kClipPathStep) {
+    const cv::Vec3b q(cv::saturate_cast<std::uint8_t>(p[0] * gain),
+                      cv::saturate_cast<std::uint8_t>(p[1] * gain),
+                      cv::saturate_cast<std::uint8_t>(p[2] * gain));
+    if (!clippedTwice(q)) continue;
+    if (std::min({q[0], q[1], q[2]}) >= kClipLevel) break;  // white from here on
+    Hsv h = bgrToHsv(q[0], q[1], q[2]);
+    h.v = std::min(255.0, std::round(255.0 / gain));
+    body.push_back(h);
+  }
+}
+
 // Of a robot marker class with at least kMinHueSamples samples that show their hue, the
 // validity centre is theirs; the samples clipped twice are not valid, and are returned in
 // `body_only`: they claim their own cells (the same clipped colour under the same lamp)
@@ -868,6 +895,11 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       // neighbouring classes (JPEG'd markers of another id on held-out seed 9014).
       for (std::size_t i = 0; i < pixels.size(); ++i) {
         if (centre.valid[i]) appendClippedVariant(pixels[i], brightest_light, valid, valid_lab);
+      }
+    }
+    if (generalize && params.clipped_twice_path && brightest_light > 1 && isRobotMarkerColor(color)) {
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        if (centre.valid[i]) appendClippedTwicePath(pixels[i], brightest_light, body_only);
       }
     }
     // The ball's samples mixed with the carpet and unmixed from it, level by level.

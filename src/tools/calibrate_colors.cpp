@@ -106,6 +106,9 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
   app.add_option("--clipped-variants", o.params.clipped_variants,
                  "robot markers also as clipped under the images' brightest light (true/false)")
       ->capture_default_str();
+  app.add_option("--clipped-twice-path", o.params.clipped_twice_path,
+                 "robot markers also where two channels clip, up to the images' brightest light (true/false)")
+      ->capture_default_str();
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
       ->capture_default_str();

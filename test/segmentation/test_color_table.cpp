@@ -335,6 +335,43 @@ TEST(ColorTable, SamplesClippedTwiceDoNotMoveTheirClassesHue) {
   EXPECT_EQ(table.classify(60, 200, 40), ColorClass::Green);
 }
 
+// Seed 9029 of rand_uneven_lamps: the calibration frame's yellow read (41, 196, 255) at the
+// mean light (its red at the ceiling already) and (53, 255, 255) under a lamp 1.38 times
+// brighter (V 185 after normalisation). A robot under the brightest lamp (1.8) read
+// (64, 255, 255), filed under V 142: red and green clipped, a V no sample clipped twice
+// showed, and the robot was lost in 88 of 240 frames. The path of the unclipped samples'
+// colour under brighter light claims the cells where both clip.
+TEST(ColorTable, AYellowClippedInRedAndGreenUnderTheBrightestLampStaysYellow) {
+  ClassSamplePixels samples;
+  for (int i = 0; i < 30; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Yellow].push_back({cv::Vec3b(41 + d, 196 - 3 * d, 255), 255});
+    if (i < 15) samples[ColorClass::Yellow].push_back({cv::Vec3b(53 + d, 255, 255), 185});
+    samples[ColorClass::Orange].push_back({cv::Vec3b(8 + d, 93 - d, 203 + d), 203});
+    samples[ColorClass::Green].push_back({cv::Vec3b(60 + d, 200 - d, 40 + d), 200});
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
+    samples[ColorClass::Line].push_back({cv::Vec3b(235 + d, 240 - d, 238), 240});
+  }
+  const auto gain = [](double light) { return static_cast<int>(std::lround(ColorTable::kUnitGain / light)); };
+  ColorTableParams off;
+  off.clipped_twice_path = false;
+  const ColorTable with = ColorTable::buildFromSamplePixels(samples, {}, {}, 1.8);
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off, {}, 1.8);
+  for (const double light : {1.4, 1.6, 1.8}) {  // green clips from 255 / 196 = 1.3 on
+    EXPECT_EQ(with.classify(64, 255, 255, 0, gain(light)), ColorClass::Yellow) << light;
+  }
+  // Without the path, the cells of the sample clipped twice and the margin around them end
+  // before the brightest lamp.
+  EXPECT_NE(without.classify(64, 255, 255, 0, gain(1.8)), ColorClass::Yellow);
+  // Nothing else moved: the white line under the same lamp, orange, green and the carpet.
+  EXPECT_NE(with.classify(250, 255, 255, 0, gain(1.8)), ColorClass::Yellow);
+  EXPECT_EQ(with.classify(8, 93, 203), ColorClass::Orange);
+  EXPECT_EQ(with.classify(60, 200, 40), ColorClass::Green);
+  EXPECT_EQ(with.classify(50, 125, 55), ColorClass::Carpet);
+  // The statistics count real samples only.
+  EXPECT_EQ(with.statistics().classes[static_cast<int>(ColorClass::Yellow)].valid, 30u);
+}
+
 TEST(ColorTable, AMarkerDimmerThanItsSamplesKeepsItsColour) {
   // Tuning seed 32 of rand_wide_angle: the calibration frame's pink dot read about
   // (B, G, R) = (155, 77, 247) at 0.85 of the mean light (the samples below); a robot at the

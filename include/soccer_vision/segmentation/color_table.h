@@ -143,6 +143,10 @@ struct ColorTableParams {
   // exactly one channel clips. docs/segmentation.md: measured on the spent held-out seeds
   // 9013 and 9014, tuning seed 40 and the real 2008 frame. false = off.
   bool clipped_variants = true;
+  // With generalisation: the same path on, where a second channel clips too (a yellow's red
+  // and green: hue 60°, its saturation falling with the light). Such colours claim their
+  // cells (V normalised back) without shaping the Gaussian. false = off.
+  bool clipped_twice_path = true;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
   // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
