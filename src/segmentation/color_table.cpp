@@ -184,16 +184,18 @@ void appendBrightnessVariants(const SamplePixel& sample, Hsv hsv, double spread,
   }
 }
 
+// Below this HSV saturation a colour is a grey (white, black): its hue says nothing.
+constexpr double kGreySaturation = 0.25;
+
 // Another print of a marker colour is another colour: on one held-out scene a sky-blue dot
 // read hue 185° where the calibration frame's only sky-blue dot read 197°, 25 ΔE away,
 // and no region formed. ColorTableParams::print_spread: the spread of colours that one
 // channel at 1 − x or 1 / (1 − x) of a valid sample's (clipped at 255) shows, as a
 // covariance in L*a*b*: per sample the mean outer product of those variants' offsets from
 // it, averaged over the samples. The class's Gaussian spans at least that (fitLabGaussian).
-// A sample of low saturation adds nothing (counts as zero): a channel of a grey changes its
-// hue wholesale, and such samples (a marker's rim, a washed-out print) would widen the
-// class in every direction.
-constexpr double kMinPrintSaturation = 0.25;
+// A sample of low saturation (below kGreySaturation) adds nothing (counts as zero): a
+// channel of a grey changes its hue wholesale, and such samples (a marker's rim, a
+// washed-out print) would widen the class in every direction.
 
 Eigen::Matrix3d printVariantCovariance(const std::vector<SamplePixel>& pixels, const std::vector<Hsv>& hsv,
                                        const std::vector<Lab>& lab, const std::vector<bool>& valid,
@@ -204,7 +206,7 @@ Eigen::Matrix3d printVariantCovariance(const std::vector<SamplePixel>& pixels, c
   for (std::size_t i = 0; i < pixels.size(); ++i) {
     if (!valid[i]) continue;
     ++n;
-    if (hsv[i].s < kMinPrintSaturation || factors.empty()) continue;
+    if (hsv[i].s < kGreySaturation || factors.empty()) continue;
     const cv::Vec3b p = normalisedColour(pixels[i]);
     const Eigen::Vector3d own(lab[i].l, lab[i].a, lab[i].b);
     Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
@@ -805,6 +807,23 @@ ColorTable ColorTable::build(const ClassPixels& samples, const ColorTableParams&
   return buildFromSamplePixels(as_taken, params);
 }
 
+namespace {
+
+// The claim bits of the robot marker classes of colour, not grey (ColorTableParams::
+// lines_yield_to_markers): a pattern whose white quadrants are sampled as a marker class
+// (the real 2008 frame's) keeps its lines.
+std::uint16_t chromaticMarkerBits(const ColorTableStatistics& stats) {
+  std::uint16_t bits = 0;
+  for (int c = 0; c < kNumColorClasses; ++c) {
+    if (isRobotMarkerColor(static_cast<ColorClass>(c)) && stats.classes[c].valid > 0 &&
+        stats.classes[c].mean_s >= kGreySaturation)
+      bits |= static_cast<std::uint16_t>(1u << c);
+  }
+  return bits;
+}
+
+}  // namespace
+
 ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params,
                                              const std::vector<SamplePixel>& background,
                                              double brightest_light) {
@@ -968,6 +987,7 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     claimHolesByNearestClass(params, lab_models, probes, background_cell, claims);
 
   table.cells_.assign(n_cells, ColorClass::None);
+  const std::uint16_t chromatic_markers = chromaticMarkerBits(table.stats_);
   const double wh = 360.0 / params.h_bins, ws = 1.0 / s_bins, wv = 256.0 / v_bins;
   for (std::size_t i = 0; i < n_cells; ++i) {
     const std::uint16_t mask = claims[i];
@@ -982,8 +1002,10 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       const double s = (static_cast<double>(hs % s_bins) + 0.5) * ws;
       const double v = (static_cast<double>(i % v_bins) + 0.5) * wv;
       double best = -HUGE_VAL;
+      const bool lines_give_way = params.lines_yield_to_markers && (mask & chromatic_markers) != 0;
       for (int c = 0; c < kNumColorClasses; ++c) {
         if (!(mask & (1u << c))) continue;
+        if (lines_give_way && c == static_cast<int>(ColorClass::Line)) continue;
         // With generalisation the classes' L*a*b* Gaussians decide, as they claimed.
         const double ll = generalize ? lab_models[c].logLikelihood(probes[i * kCellProbes])
                                      : logLikelihood(table.stats_.classes[c], h, s, v);

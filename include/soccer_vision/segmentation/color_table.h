@@ -147,6 +147,14 @@ struct ColorTableParams {
   // and green: hue 60°, its saturation falling with the light). Such colours claim their
   // cells (V normalised back) without shaping the Gaussian. false = off.
   bool clipped_twice_path = true;
+  // A cell that the lines' class and a robot marker class both claim goes to the marker,
+  // whatever their Gaussians say. Lines are thin: no robot is found or lost by a line's
+  // colour, but a marker read as line is lost. Under a Bayer sensor the quads of a white
+  // line read cyan and yellow (each channel from another pixel across the line), and the
+  // lines' Gaussian took a sky-blue dot (docs/segmentation.md). Not to a marker class whose
+  // samples are grey (mean HSV saturation below 0.25: white quadrants sampled as a marker
+  // class, as on the real 2008 frame). false = the Gaussians decide.
+  bool lines_yield_to_markers = true;
   // The background model of generalisation: a cell the Gaussians reach is not claimed when
   // more than this share of the calibration images' background pixels (all pixels but the
   // marker samples and their surroundings, buildFromSamplePixels) fall into it: the floor
