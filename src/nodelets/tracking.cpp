@@ -201,6 +201,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   tracker_params_.robot_lost_timeout = config.robot_lost_timeout;
   tracker_params_.ball_lost_timeout = config.ball_lost_timeout;
   tracker_params_.min_confidence = config.min_confidence;
+  tracker_params_.min_start_confidence = config.min_start_confidence;
   tracker_params_.misread_distance = config.misread_distance;
   tracker_params_.time.max_forward_jump = config.max_forward_jump;
   tracker_params_.time.late_tolerance = config.late_tolerance;
@@ -406,6 +407,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("resets (time jumps)", s.resets);
   stat.add("robot outliers", s.robot_outliers);
   stat.add("robot ids misread (taken as the track's robot)", s.misread_ids);
+  stat.add("detections too unsure to begin a track", s.unsure_starts);
   stat.add("robot manoeuvres (sudden velocity changes)", s.robot_maneuvers);
   stat.add("heading manoeuvres (sudden turns)", s.heading_maneuvers);
   stat.add("heading manoeuvres undone (misread headings)", s.maneuvers_undone);

@@ -43,6 +43,9 @@ void validate(const TrackerParams& p) {
   if (!(p.min_confidence >= 0 && p.min_confidence <= 1)) {
     throw std::invalid_argument("tracker: min_confidence must be in [0, 1]");
   }
+  if (!(p.min_start_confidence >= 0 && p.min_start_confidence <= 1)) {
+    throw std::invalid_argument("tracker: min_start_confidence must be in [0, 1]");
+  }
   if (p.max_ball_tracks < 1) throw std::invalid_argument("tracker: max_ball_tracks must be >= 1");
   if (!(p.visible_window >= 0)) throw std::invalid_argument("tracker: visible_window must be >= 0");
   if (!(p.misread_distance >= 0 && p.misread_distance <= 0.2))
@@ -126,6 +129,7 @@ TrackerUpdateReport Tracker::update(const CameraFrameDetections& frame) {
   stats_.heading_outliers += report.heading_outliers;
   stats_.robots_reinitialised += report.robots_reinitialised;
   stats_.misread_ids += report.misread_ids;
+  stats_.unsure_starts += report.unsure_starts;
   stats_.robot_maneuvers += report.robot_maneuvers;
   stats_.heading_maneuvers += report.heading_maneuvers;
   stats_.maneuvers_undone += report.maneuvers_undone;
@@ -179,6 +183,10 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d, const Cam
 
 void Tracker::startRobot(const RobotDetection& d, const CameraFrameDetections& frame,
                          TrackerUpdateReport& report) {
+  if (d.confidence < p_.min_start_confidence) {
+    ++report.unsure_starts;
+    return;
+  }
   RobotMeasurement m{d.x, d.y, d.theta, d.heading_valid};
   robots_.push_back(RobotTrack{next_track_id_++, d.team, d.id, RobotFilter(p_.robot, m), frame.stamp,
                                timeline_.now(), frame.camera_id, clamp01(d.confidence), d.heading_valid, 1});

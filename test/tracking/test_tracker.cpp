@@ -354,6 +354,41 @@ TEST(Tracker, BadDetectionsAreCountedNotTracked) {
   EXPECT_THROW(Tracker{bad}, std::invalid_argument);
 }
 
+// Held-out seed 9029 of rand_bayer (spent): the quads of a white goal line read cyan and
+// yellow, and a yellow strip of them beside a stray green-read carpet quad was "yellow 3",
+// 7 m from that robot, at confidence 0.11-0.13 in 9 frames. An unsure detection begins no
+// track (it is counted); it still measures the track of its robot, which a sure one began.
+TEST(Tracker, AnUnsureDetectionBeginsNoTrackButMeasuresOne) {
+  Tracker tracker;
+  RobotDetection phantom = robot(Team::Yellow, 3, -3.95, -2.9);
+  phantom.confidence = 0.12;
+  int k = 0;
+  for (; k < 3; ++k) {
+    const TrackerUpdateReport report = tracker.update(frame(kT0 + k * kDt, 0, {phantom}));
+    EXPECT_EQ(report.unsure_starts, 1);
+    EXPECT_EQ(report.robots_created, 0);
+  }
+  EXPECT_FALSE(find(tracker.output(kT0 + (k - 1) * kDt), Team::Yellow, 3));
+  EXPECT_EQ(tracker.stats().unsure_starts, 3);
+  RobotDetection sure = robot(Team::Yellow, 3, 1, 1);
+  sure.confidence = 0.9;
+  EXPECT_EQ(tracker.update(frame(kT0 + k++ * kDt, 0, {sure})).robots_created, 1);
+  RobotDetection unsure = robot(Team::Yellow, 3, 1.001, 1);
+  unsure.confidence = 0.12;
+  const TrackerUpdateReport report = tracker.update(frame(kT0 + k * kDt, 0, {unsure}));
+  EXPECT_EQ(report.robots_measured, 1);
+  EXPECT_EQ(report.unsure_starts, 0);
+  ASSERT_TRUE(find(tracker.output(kT0 + k * kDt), Team::Yellow, 3));
+  EXPECT_TRUE(find(tracker.output(kT0 + k * kDt), Team::Yellow, 3)->visible);
+  // With min_start_confidence 0 it begins a track.
+  TrackerParams any;
+  any.min_start_confidence = 0;
+  Tracker trusting(any);
+  EXPECT_EQ(trusting.update(frame(kT0, 0, {phantom})).robots_created, 1);
+  any.min_start_confidence = 1.5;
+  EXPECT_THROW(Tracker{any}, std::invalid_argument);
+}
+
 // ---------------------------------------------------------------- search policy, frame_step
 
 TEST(GlobalSearchPolicy, FiresFirstPeriodicallyOnMissingTargetsNoTracksAndAfterReset) {

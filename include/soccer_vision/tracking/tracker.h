@@ -57,9 +57,13 @@ struct TrackerParams {
   RobotFilterParams robot;
   BallFilterParams ball;
   TimelineParams time;
-  double robot_lost_timeout = 0.5;    // [s] without a measurement -> robot track dropped
-  double ball_lost_timeout = 0.5;     // [s] likewise for ball tracks
-  double min_confidence = 0.0;        // [0..1] detections below are ignored
+  double robot_lost_timeout = 0.5;  // [s] without a measurement -> robot track dropped
+  double ball_lost_timeout = 0.5;   // [s] likewise for ball tracks
+  double min_confidence = 0.0;      // [0..1] detections below are ignored
+  // [0..1] a robot track begins only from a detection at least this sure; weaker ones still
+  // measure the track of their robot. A phantom of fringe regions along a line is unsure
+  // (0.11-0.13), a robot rarely (docs/tracking.md).
+  double min_start_confidence = 0.2;
   int max_ball_tracks = 3;            // primary ball + alternatives (>= 1)
   double visible_window = 0.001;      // [s] "visible": measured at most this long before the output stamp
   double confidence_smoothing = 0.3;  // (0..1] weight of a new detection in the running confidence
@@ -143,6 +147,7 @@ struct TrackerUpdateReport {
   int duplicate_detections = 0;  // same identity twice in one frame
   int misread_ids = 0;           // detections taken as the robot of the track they lie on
   int invalid_detections = 0;    // non-finite numbers
+  int unsure_starts = 0;         // detections of no track too unsure to begin one (min_start_confidence)
   int balls_measured = 0;
   int ball_kicks = 0;  // ball filters restarted by a kick
   int balls_created = 0;
@@ -161,6 +166,7 @@ struct TrackerStats {
   long ball_kicks = 0, tracks_created = 0, tracks_lost = 0;
   long balls_replaced = 0;
   long misread_ids = 0;
+  long unsure_starts = 0;
 };
 
 class Tracker {
