@@ -40,12 +40,12 @@ void validate(const TrackerParams& p) {
   positive(p.confidence_smoothing, "confidence_smoothing");
   positive(p.ball_rate_memory, "ball_rate_memory");
   if (p.confidence_smoothing > 1) throw std::invalid_argument("tracker: confidence_smoothing must be <= 1");
-  if (!(p.min_confidence >= 0 && p.min_confidence <= 1)) {
-    throw std::invalid_argument("tracker: min_confidence must be in [0, 1]");
-  }
-  if (!(p.min_start_confidence >= 0 && p.min_start_confidence <= 1)) {
-    throw std::invalid_argument("tracker: min_start_confidence must be in [0, 1]");
-  }
+  auto unit = [](double v, const char* name) {
+    if (!(v >= 0 && v <= 1))
+      throw std::invalid_argument(std::string("tracker: ") + name + " must be in [0, 1]");
+  };
+  unit(p.min_confidence, "min_confidence");
+  unit(p.min_start_confidence, "min_start_confidence");
   if (p.max_ball_tracks < 1) throw std::invalid_argument("tracker: max_ball_tracks must be >= 1");
   if (!(p.visible_window >= 0)) throw std::invalid_argument("tracker: visible_window must be >= 0");
   if (!(p.misread_distance >= 0 && p.misread_distance <= 0.2))
