@@ -118,9 +118,9 @@ class SegmentationNodelet : public nodelet::Nodelet {
   void loaderLoop();
   void requestLoad(const std::string& path);
   // The windows of the latest SearchWindows for this camera and stamp (none: whole frame),
-  // and its ball_streak_windows.
+  // and its ball_streak_windows and lost_ball_streak_windows.
   struct FrameWindows {
-    std::vector<cv::Rect> windows, ball_streak;
+    std::vector<cv::Rect> windows, ball_streak, lost_ball_streak;
   };
   FrameWindows searchWindows(const ros::Time& image_stamp);
   void publishDebug(const sensor_msgs::ImageConstPtr& image, const cv::Mat& mat, PixelLayout layout,
@@ -444,6 +444,7 @@ SegmentationNodelet::FrameWindows SegmentationNodelet::searchWindows(const ros::
   };
   if (!w->global_search) append(w->windows, out.windows);  // empty (no usable window): whole frame
   append(w->ball_streak_windows, out.ball_streak);
+  append(w->lost_ball_streak_windows, out.lost_ball_streak);
   return out;
 }
 
@@ -515,7 +516,10 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     ++skipped_by_frame_step_;
     return;
   }
-  const FrameWindows windows = searchWindows(image->header.stamp);
+  FrameWindows windows = searchWindows(image->header.stamp);
+  if (searchesLostBallStreaks(*layout))
+    windows.ball_streak.insert(windows.ball_streak.end(), windows.lost_ball_streak.begin(),
+                               windows.lost_ball_streak.end());
   try {
     segmenter_.process(*m, cv->image, *layout, windows.windows, result_, windows.ball_streak);
   } catch (const std::exception& e) {

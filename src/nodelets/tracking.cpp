@@ -218,6 +218,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   search.entry_band_px = config.entry_band;
   search.global_search.period_frames = config.global_search_period;
   search.sweep = config.global_search_sweep;
+  search.lost_ball_sweep_streaks = config.lost_ball_sweep_streaks;
   search.search_windows = config.search_windows;
   try {
     validate(search);  // all cameras take the same parameters: check once, then apply
@@ -344,6 +345,8 @@ void TrackingNodelet::publishWindows(Camera& camera, const std_msgs::Header& hea
   msg->global_search = plan.global_search;
   for (const cv::Rect& r : plan.rects) msg->windows.push_back(toRegionOfInterest(r));
   for (const cv::Rect& r : plan.ball_streak_rects) msg->ball_streak_windows.push_back(toRegionOfInterest(r));
+  for (const cv::Rect& r : plan.lost_ball_streak_rects)
+    msg->lost_ball_streak_windows.push_back(toRegionOfInterest(r));
   camera.windows_pub.publish(msg);
   if (show_windows_ && model) publishWindowMarkers(*model, *msg);
 }

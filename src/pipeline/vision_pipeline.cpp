@@ -114,7 +114,13 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
                             ? GlobalSearchReason::AfterReset
                             : state.next->reason;
 
-  const std::vector<cv::Rect>& streak_windows = planned ? state.next->ball_streak_rects : kNone;
+  std::vector<cv::Rect> streak_windows;
+  if (planned) {
+    streak_windows = state.next->ball_streak_rects;
+    if (searchesLostBallStreaks(camera.layout))
+      streak_windows.insert(streak_windows.end(), state.next->lost_ball_streak_rects.begin(),
+                            state.next->lost_ball_streak_rects.end());
+  }
 
   const auto t0 = Clock::now();
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_, streak_windows);

@@ -177,6 +177,8 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
   out.timings.total_ms = msSince(start);
 }
 
+bool searchesLostBallStreaks(PixelLayout layout) { return !isBayer(layout); }
+
 cv::Mat classifyAll(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
                     const SegmentationParams& params) {
   const BlockOffsets offsets = model.illumination.offsets(

@@ -1,5 +1,6 @@
 #include "soccer_vision/tracking/search_planner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,6 +24,33 @@ GlobalSearchParams policyParams(const SearchPlannerParams& p) {
 }
 
 }  // namespace
+
+cv::Rect playingAreaImageRect(const CameraModel& camera, const FieldGeometry& field) {
+  // Points along the lines' outer edges, so that a distorted image of them is enclosed.
+  constexpr int kSteps = 24;
+  const double hx = field.halfLength() + field.line_width, hy = field.halfWidth() + field.line_width;
+  double u0 = HUGE_VAL, v0 = HUGE_VAL, u1 = -HUGE_VAL, v1 = -HUGE_VAL;
+  for (int i = 0; i <= kSteps; ++i) {
+    const double t = -1.0 + 2.0 * i / kSteps;
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(t * hx, -hy, 0), Eigen::Vector3d(t * hx, hy, 0),
+                                     Eigen::Vector3d(-hx, t * hy, 0), Eigen::Vector3d(hx, t * hy, 0)}) {
+      const auto px = camera.project(p);
+      if (!px || !std::isfinite(px->x()) || !std::isfinite(px->y())) continue;
+      u0 = std::min(u0, px->x());
+      v0 = std::min(v0, px->y());
+      u1 = std::max(u1, px->x());
+      v1 = std::max(v1, px->y());
+    }
+  }
+  const cv::Rect image(0, 0, camera.width(), camera.height());
+  if (!(u0 <= u1 && v0 <= v1)) return {};
+  const auto clamp = [](double x, int hi) {
+    return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(hi)));
+  };
+  const int x0 = clamp(std::floor(u0), image.width), y0 = clamp(std::floor(v0), image.height);
+  const int x1 = clamp(std::ceil(u1) + 1, image.width), y1 = clamp(std::ceil(v1) + 1, image.height);
+  return cv::Rect(x0, y0, x1 - x0, y1 - y0) & image;
+}
 
 cv::Rect sweepStripe(cv::Size image, int index, int count, int margin) {
   if (count <= 0 || image.height <= 0) return {};
@@ -77,6 +105,11 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
     plan.sweep_stripe = sweepStripe(image, next_stripe_, stripes, params_.entry_band_px);
     next_stripe_ = (next_stripe_ + 1) % stripes;
     if (!plan.sweep_stripe.empty()) plan.rects.push_back(plan.sweep_stripe);
+  }
+  if (params_.lost_ball_sweep_streaks && plan.ball_streak_rects.empty() && !plan.sweep_stripe.empty() &&
+      tracker.params().field) {
+    const cv::Rect in_play = plan.sweep_stripe & playingAreaImageRect(*camera, *tracker.params().field);
+    if (!in_play.empty()) plan.lost_ball_streak_rects.push_back(in_play);
   }
   return plan;
 }

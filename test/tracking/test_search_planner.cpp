@@ -229,3 +229,45 @@ TEST(SearchPlanner, ThePrimaryBallsWindowIsAStreakWindowWhileTheBallIsSeen) {
   bad.ball_streak_intervals = -1;
   EXPECT_THROW(validate(bad), std::invalid_argument);
 }
+
+// Held-out seed 9031 of rand_fast (spent): the ball, kicked out of view at 11 m/s, came back
+// off the wall as fast, a streak the colour table's orange does not reach, and was lost for
+// 93 frames until it slowed down (ball detection 40 %). While no ball is seen, the sweep's
+// stripe within the playing area's image is a streak window: in one period the stripes
+// reach every point of the field in view, and never the carpet beyond the lines.
+TEST(SearchPlanner, ALostBallIsSearchedForWithTheStreakTableInTheSweepWithinTheLines) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  TrackerParams tracker_params;
+  tracker_params.field = field;
+  const cv::Rect in_play = playingAreaImageRect(camera, field);
+  ASSERT_FALSE(in_play.empty());
+  const auto on_field = camera.project({-2.0, 0.5, 0.0215});
+  const auto beyond = camera.project({-field.halfLength() - 0.2, 0.0, 0.0215});
+  ASSERT_TRUE(on_field && beyond);
+  ASSERT_TRUE(camera.inImage(*beyond));  // the camera sees the carpet beyond the goal line
+  for (const bool on : {true, false}) {
+    SearchPlannerParams params;
+    params.lost_ball_sweep_streaks = on;
+    SearchPlanner planner(params);
+    Tracker tracker(tracker_params);
+    bool reached = false;
+    int streak_plans = 0;
+    for (int k = 0; k < 2 + params.global_search.period_frames; ++k) {
+      const double stamp = kT0 + k / 60.0;
+      planner.observe(tracker.update(robotAt(stamp, -1.0, -1.0)), stamp);
+      const SearchPlan plan = planner.plan(tracker, &camera, stamp);
+      if (plan.global_search) continue;
+      EXPECT_TRUE(plan.ball_streak_rects.empty());
+      for (const cv::Rect& r : plan.lost_ball_streak_rects) {
+        ++streak_plans;
+        EXPECT_EQ(r, r & plan.sweep_stripe);
+        EXPECT_EQ(r, r & in_play);
+        EXPECT_FALSE(inside(r, *beyond));
+        reached |= inside(r, *on_field);
+      }
+    }
+    EXPECT_EQ(reached, on);
+    EXPECT_EQ(streak_plans > 0, on);
+  }
+}

@@ -116,6 +116,12 @@ class Segmenter {
                        const std::vector<cv::Rect>& streak_windows, SegmentationResult& out);
 };
 
+// Whether the stripes searched for a lost ball (SearchPlan::lost_ball_streak_rects) take
+// the ball's streak table on this layout: not on Bayer quads, whose white lines read as
+// cyan and yellow fringes that the streak table takes for a ball blurred with the carpet
+// (docs/segmentation.md#the-balls-streak).
+bool searchesLostBallStreaks(PixelLayout layout);
+
 // Labels of every pixel (label resolution) with the same illumination offsets and
 // sharpening as Segmenter::process, e.g. for the debug image and accuracy tests.
 cv::Mat classifyAll(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
