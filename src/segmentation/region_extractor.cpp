@@ -388,6 +388,10 @@ RegionExtractor::RegionExtractor(const RegionParams& params)
                                 ", got " + std::to_string(p.morph_kernel));
   }
   if (p.tile_size < 1) throw std::invalid_argument("RegionParams: tile_size must be >= 1");
+  if (p.scan_stride < 0 || p.scan_stride > kMaxKernel) {
+    throw std::invalid_argument("RegionParams: scan_stride must be in 0.." + std::to_string(kMaxKernel) +
+                                ", got " + std::to_string(p.scan_stride));
+  }
 }
 
 void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv::Rect>& windows,
@@ -401,7 +405,10 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   // Every region kept holds a k x k square of its class (the opening) or, with
   // require_pair, a domino: the scan's grid and hit test follow from that.
   const HitRule rule{std::max(1, k), !morphology && params_.require_pair};
-  const int stride = rule.pair ? 2 : rule.k;
+  const int stride = rule.pair ? 2 : morphology ? std::max(k, params_.scan_stride) : 1;
+  // Tiles far from every kept hit are left unclassified only when each k x k square of a
+  // class holds a grid point (stride k): with a coarser grid a region's square may hold none.
+  const bool only_marked = morphology && stride == k;
   const int tile = params_.tile_size;
   Clock::time_point since = Clock::now();
 
@@ -461,7 +468,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     area.regions.clear();
     const cv::Rect core = area.core;
     const cv::Rect outer = grownBy(core, margin, image);
-    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), morphology, params_.classes, s,
+    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), only_marked, params_.classes, s,
                                             stats.classified_pixels);
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();

@@ -54,16 +54,43 @@ inline void countMarkerInteriors(const cv::Mat1b& truth, const cv::Mat1b& labels
 
 // The labels as the regions see them: each marker colour's pixels kept where its mask
 // survives an opening with a k x k square (RegionParams::morph_kernel; the closing after it
-// only fills holes in what is kept). k <= 1: as they are.
-inline cv::Mat1b openedMarkers(const cv::Mat1b& labels, int k) {
+// only fills holes in what is kept; k <= 1: none) in a component of at least min_area
+// pixels (RegionParams::min_area: smaller ones make no region) that holds a point of the
+// scan's grid (`stride`, RegionParams::scan_stride; any pixel of the last column or row
+// when the grid misses them).
+inline cv::Mat1b openedMarkers(const cv::Mat1b& labels, int k, int min_area = 1, int stride = 1) {
   cv::Mat1b out = labels.clone();
-  if (k <= 1) return out;
-  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
+  if (k <= 1 && min_area <= 1 && stride <= 1) return out;
+  const int w = labels.cols, h = labels.rows;
+  const auto scanned = [&](int x, int y) {
+    return (x % stride == 0 && y % stride == 0) || (x == w - 1 && (w - 1) % stride != 0) ||
+           (y == h - 1 && (h - 1) % stride != 0);
+  };
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(std::max(k, 1), std::max(k, 1)));
   for (int c = 0; c < kNumColorClasses; ++c) {
     if (!isMarkerColor(static_cast<ColorClass>(c))) continue;
     const cv::Mat1b mask = labels == c;
-    cv::Mat1b opened;
-    cv::morphologyEx(mask, opened, cv::MORPH_OPEN, kernel);
+    // Centred as the segmentation's (binary_morphology.h): the dilation takes the erosion's
+    // anchor reflected, or an even k would shift the result by a pixel.
+    const cv::Point anchor(k / 2, k / 2), reflected(k - 1 - k / 2, k - 1 - k / 2);
+    cv::Mat1b opened = mask.clone();
+    if (k > 1) {
+      cv::erode(mask, opened, kernel, anchor);
+      cv::dilate(opened, opened, kernel, reflected);
+    }
+    cv::Mat1i components;
+    cv::Mat stats, centroids;
+    const int n = cv::connectedComponentsWithStats(opened, components, stats, centroids, 8, CV_32S);
+    std::vector<char> seen(static_cast<std::size_t>(n), stride <= 1);
+    for (int y = 0; y < h && stride > 1; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (opened(y, x) && scanned(x, y)) seen[static_cast<std::size_t>(components(y, x))] = 1;
+      }
+    }
+    for (int l = 1; l < n; ++l) {
+      if (stats.at<int>(l, cv::CC_STAT_AREA) < min_area || !seen[static_cast<std::size_t>(l)])
+        opened.setTo(0, components == l);
+    }
     out.setTo(static_cast<int>(ColorClass::None), mask & ~opened);
   }
   return out;

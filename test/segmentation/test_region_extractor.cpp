@@ -96,26 +96,45 @@ struct Blob {
 };
 
 // The full-frame reference: per class open + close with a k x k square on the whole
-// label image, 8-connected components, area filter.
+// label image, 8-connected components, area filter. With a scan grid coarser than the
+// kernel (RegionParams::scan_stride), only the components holding an opened pixel the scan
+// reads: a grid point, or any pixel of the last column or row when the grid misses them.
 std::vector<Blob> reference(const cv::Mat1b& labels, const RegionParams& p) {
   std::vector<Blob> blobs;
   const int k = std::max(1, p.morph_kernel);
+  const int stride = p.morph_kernel > 1 ? std::max(k, p.scan_stride) : 1;
+  const int w = labels.cols, h = labels.rows;
+  const auto scanned = [&](int x, int y) {
+    return (x % stride == 0 && y % stride == 0) || (x == w - 1 && (w - 1) % stride != 0) ||
+           (y == h - 1 && (h - 1) % stride != 0);
+  };
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
   for (int c = 0; c < kNumColorClasses; ++c) {
     if (!(p.classes & classBit(static_cast<ColorClass>(c)))) continue;
     cv::Mat mask = labels == c;
+    cv::Mat opened = mask;
     if (p.morph_kernel > 1) {  // centred open + close (binary_morphology.h)
       const cv::Point a(k / 2, k / 2), reflected(k - 1 - k / 2, k - 1 - k / 2);
       cv::erode(mask, mask, kernel, a);
       cv::dilate(mask, mask, kernel, reflected);
+      opened = mask.clone();
       cv::dilate(mask, mask, kernel, a);
       cv::erode(mask, mask, kernel, reflected);
     }
-    cv::Mat cc, stats, centroids;
+    cv::Mat1i cc;
+    cv::Mat stats, centroids;
     const int n = cv::connectedComponentsWithStats(mask, cc, stats, centroids, 8, CV_32S);
+    std::vector<char> seen(static_cast<std::size_t>(n), stride <= k);
+    if (stride > k) {
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          if (opened.at<std::uint8_t>(y, x) && scanned(x, y)) seen[static_cast<std::size_t>(cc(y, x))] = 1;
+        }
+      }
+    }
     for (int l = 1; l < n; ++l) {
       const int area = stats.at<int>(l, cv::CC_STAT_AREA);
-      if (area < p.min_area || area > p.max_area) continue;
+      if (!seen[static_cast<std::size_t>(l)] || area < p.min_area || area > p.max_area) continue;
       blobs.push_back({static_cast<ColorClass>(c), area,
                        cv::Rect(stats.at<int>(l, cv::CC_STAT_LEFT), stats.at<int>(l, cv::CC_STAT_TOP),
                                 stats.at<int>(l, cv::CC_STAT_WIDTH), stats.at<int>(l, cv::CC_STAT_HEIGHT)),
@@ -449,6 +468,44 @@ TEST(RegionExtractor, CoverageWeightedMomentsOfAntiAliasedDiscsAndRectangles) {
   EXPECT_LT(angle_worst, 0.5);
 }
 
+// The default opening (2x2) against a team tag in a wide-angle lens' corner: 4 px wide, on
+// the diagonal, a few of its pixels read orange (held-out seeds 9031/9032: a 3x3 opening cut
+// such a tag into 18 + 9 px, each too small for a tag). It stays one region with most of its
+// pixels; a one-pixel yellow rim around an orange ball (its edge mixed with the carpet)
+// leaves no region that the ball would seem to lie on.
+TEST(RegionExtractor, TheDefaultOpeningKeepsAThinSplitTagAndDropsAOnePixelRim) {
+  cv::Mat1b labels(64, 64, static_cast<std::uint8_t>(ColorClass::None));
+  const auto yellow = static_cast<std::uint8_t>(ColorClass::Yellow);
+  const auto orange = static_cast<std::uint8_t>(ColorClass::Orange);
+  int tag_pixels = 0;
+  for (int y = 0; y < labels.rows; ++y) {
+    for (int x = 0; x < labels.cols; ++x) {
+      // An 18 px bar of half-width 2.1 px from (12, 40) up and to the right.
+      const double along = ((x - 12) - (y - 40)) / std::sqrt(2.0);
+      const double across = std::abs((x - 12) + (y - 40)) / std::sqrt(2.0);
+      if (along >= 0 && along <= 18 && across <= 2.1) labels(y, x) = yellow, ++tag_pixels;
+      const double r = std::hypot(x - 45, y - 45);  // the ball and its rim
+      if (r <= 4.0) labels(y, x) = orange;
+      if (r > 4.0 && r <= 5.2) labels(y, x) = yellow;
+    }
+  }
+  int holes = 0;
+  for (const cv::Point p :
+       {cv::Point(14, 39), cv::Point(17, 37), cv::Point(18, 35), cv::Point(21, 33), cv::Point(23, 31)}) {
+    ASSERT_EQ(labels(p), yellow);
+    labels(p) = orange;
+    ++holes;
+  }
+  const Extraction e = extract(colorsOf(labels), RegionParams{});
+  std::vector<const Region*> yellows, oranges;
+  for (const Region& r : e.regions) (r.color == ColorClass::Yellow ? yellows : oranges).push_back(&r);
+  ASSERT_EQ(yellows.size(), 1u) << "the tag in one piece, the rim in none";
+  EXPECT_LT(std::hypot(yellows[0]->cx - 18.4, yellows[0]->cy - 33.6), 1.5);
+  EXPECT_GE(yellows[0]->area, 0.85 * (tag_pixels - holes));
+  ASSERT_EQ(oranges.size(), 1u);
+  EXPECT_NEAR(oranges[0]->cx, 45, 0.5);
+}
+
 // ------------------------------------------------------------------ the cap and bounded work
 
 TEST(RegionExtractor, CapKeepsTheLargestRegionsAndCountsTheRest) {
@@ -537,7 +594,7 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 
 }  // namespace
 
-// Colour noise hits the grid everywhere, but the opening kills it: the hit check must
+// Colour noise hits the grid everywhere, but the opening kills all but specks: the hit check must
 // keep the work within a bounded number of normal frames (ratio measured in this run, not
 // absolute). A generalised table (ColorTableParams::generalize_sigmas) gives marker colours
 // to more of the colour cube, so uniform noise hits about half the frame's tiles: 12-14x a
@@ -579,7 +636,11 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
       "(%u pixels classified, %zu regions): ratio %.2f\n",
       normal_ms, normal_stats.grid_points, normal_stats.classified_pixels, noise_ms,
       noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
-  EXPECT_EQ(regions.size(), 0u);
+  // The 2x2 opening leaves a few specks of chance 2x2 squares of one class (22 of 5-10 px
+  // on this frame; the 3x3 opening left none): far fewer than the frame's markers and far
+  // smaller (a role tag here is ~50 px, a team tag ~100 px).
+  EXPECT_LE(regions.size(), noise.total() / 40000);
+  for (const Region& r : regions) EXPECT_LE(r.area, 12u) << colorClassName(r.color);
   EXPECT_LE(noise_ms, 150 * normal_ms);
   EXPECT_LE(noise_stats.classified_pixels, noise.total() * 2);
 }

@@ -162,19 +162,20 @@ TEST(SegmentationBayer, QuadRegionsLieWhereTheColourFramePutsThem) {
   EXPECT_EQ(q.min_area, 1);
 }
 
-// Lower resolutions scale the region parameters given for 1280 px: the 3x3 opening is kept
-// down to 960 px and halved below (at 780 px it found 71 % of the robots, at 640 px none;
-// the pipeline tests at 780x580 in test_evaluation), areas go with the pixel count.
+// Lower resolutions scale the region parameters given for 1280 px: the 2x2 opening is kept
+// down to 960 px and halved below (a 3x3 one found 71 % of the robots at 780 px, at 640 px
+// none; the pipeline tests at 780x580 in test_evaluation), areas go with the pixel count.
 TEST(LabelParams, ScaleTheRegionParametersToTheLabelWidth) {
-  const RegionParams p;  // kernel 3, min_area 5, max_area 20000, tile 16
+  const RegionParams p;  // kernel 2, min_area 5, max_area 20000, tile 16
   const RegionParams same = labelParams(p, 2448);
-  EXPECT_EQ(same.morph_kernel, 3);
+  EXPECT_EQ(same.morph_kernel, 2);
   EXPECT_EQ(same.min_area, p.min_area);
   EXPECT_EQ(same.max_area, p.max_area);
   EXPECT_EQ(labelParams(p, 1280).tile_size, p.tile_size);
-  EXPECT_EQ(labelParams(p, 960).morph_kernel, 3);
+  EXPECT_EQ(labelParams(p, 960).morph_kernel, 2);
   const RegionParams low = labelParams(p, 780);
   EXPECT_EQ(low.morph_kernel, 1);
+  EXPECT_TRUE(low.require_pair);
   EXPECT_EQ(low.min_area, 2);     // 5 x (780 / 1280)^2 = 1.86
   EXPECT_EQ(low.max_area, 7427);  // 20000 x 0.371
   EXPECT_EQ(low.tile_size, 10);

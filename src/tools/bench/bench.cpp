@@ -6,7 +6,7 @@
 // open + close, connectedComponentsWithStats) on the same frames and (b) a memory-read
 // floor (one streaming read of the frame). Prints medians and ratios.
 //
-//   rosrun soccer_vision bench [--json FILE] [--frames N] [--repeat R]
+//   rosrun soccer_vision bench [--json FILE] [--frames N] [--repeat R] [--morph-kernel K]
 //                              [--resolutions 780x580,1280x1024,2448x2048] [--windows-only]
 //                              [--regions FILE]
 //
@@ -48,6 +48,7 @@ struct Options {
   int repeat = 5;
   bool windows_only = false;
   std::string regions;
+  int morph_kernel = sv::RegionParams{}.morph_kernel;  // another kernel's cost, compared in one session
   std::vector<cv::Size> resolutions = {{780, 580}, {1280, 1024}, {2448, 2048}};
 };
 
@@ -73,6 +74,9 @@ void addOptions(CLI::App& app, Options& o, std::vector<std::string>& resolutions
           "WxH", "resolution"));
   app.add_flag("--windows-only", o.windows_only, "run the windowed segmentation alone (for a profiler)");
   app.add_option("--regions", o.regions, "write every region found, all digits (compare builds with diff)");
+  app.add_option("--morph-kernel", o.morph_kernel, "the segmentation's opening (RegionParams::morph_kernel)")
+      ->check(CLI::Range(0, 15))
+      ->capture_default_str();
 }
 
 std::vector<cv::Size> parseResolutions(const std::vector<std::string>& texts) {
@@ -174,8 +178,10 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* 
   const double model_ms = timeMs([&] { model = sv::SegmentationModel::fromTable(table); });
   const sv::OpenCvBaseline baseline(*table);
 
-  sv::Segmenter segmenter;
-  sv::SegmentationParams sharpening;
+  sv::SegmentationParams params;
+  params.regions.morph_kernel = o.morph_kernel;
+  sv::Segmenter segmenter(params);
+  sv::SegmentationParams sharpening = params;
   sharpening.sharpen = 0.5;
   sv::Segmenter sharpened(sharpening);
   sv::SegmentationResult result;
