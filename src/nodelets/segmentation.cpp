@@ -516,12 +516,10 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     ++skipped_by_frame_step_;
     return;
   }
-  FrameWindows windows = searchWindows(image->header.stamp);
-  if (searchesLostBallStreaks(*layout))
-    windows.ball_streak.insert(windows.ball_streak.end(), windows.lost_ball_streak.begin(),
-                               windows.lost_ball_streak.end());
+  const FrameWindows windows = searchWindows(image->header.stamp);
   try {
-    segmenter_.process(*m, cv->image, *layout, windows.windows, result_, windows.ball_streak);
+    segmenter_.process(*m, cv->image, *layout, windows.windows, result_,
+                       streakWindows(*layout, windows.ball_streak, windows.lost_ball_streak));
   } catch (const std::exception& e) {
     NODELET_ERROR_THROTTLE(5.0, "segmentation failed: %s; frame dropped", e.what());
     dropFrame(dropped_error_);

@@ -114,13 +114,10 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
                             ? GlobalSearchReason::AfterReset
                             : state.next->reason;
 
-  std::vector<cv::Rect> streak_windows;
-  if (planned) {
-    streak_windows = state.next->ball_streak_rects;
-    if (searchesLostBallStreaks(camera.layout))
-      streak_windows.insert(streak_windows.end(), state.next->lost_ball_streak_rects.begin(),
-                            state.next->lost_ball_streak_rects.end());
-  }
+  const std::vector<cv::Rect> streak_windows =
+      planned
+          ? streakWindows(camera.layout, state.next->ball_streak_rects, state.next->lost_ball_streak_rects)
+          : kNone;
 
   const auto t0 = Clock::now();
   segmenter_.process(*camera.segmentation, image, camera.layout, windows, segmented_, streak_windows);

@@ -380,6 +380,10 @@ cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int
 
 }  // namespace
 
+int scanGridStride(const RegionParams& p) {
+  return p.morph_kernel > 1 ? std::max(p.morph_kernel, p.scan_stride) : 1;
+}
+
 RegionExtractor::RegionExtractor(const RegionParams& params)
     : params_(params), scratch_(std::make_shared<RegionScratch>()) {
   const RegionParams& p = params_;
@@ -405,7 +409,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   // Every region kept holds a k x k square of its class (the opening) or, with
   // require_pair, a domino: the scan's grid and hit test follow from that.
   const HitRule rule{std::max(1, k), !morphology && params_.require_pair};
-  const int stride = rule.pair ? 2 : morphology ? std::max(k, params_.scan_stride) : 1;
+  const int stride = rule.pair ? 2 : scanGridStride(params_);
   // Tiles far from every kept hit are left unclassified only when each k x k square of a
   // class holds a grid point (stride k): with a coarser grid a region's square may hold none.
   const bool only_marked = morphology && stride == k;

@@ -180,6 +180,14 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
 
 bool searchesLostBallStreaks(PixelLayout layout) { return !isBayer(layout); }
 
+std::vector<cv::Rect> streakWindows(PixelLayout layout, const std::vector<cv::Rect>& ball_streak,
+                                    const std::vector<cv::Rect>& lost_ball_streak) {
+  std::vector<cv::Rect> out = ball_streak;
+  if (searchesLostBallStreaks(layout))
+    out.insert(out.end(), lost_ball_streak.begin(), lost_ball_streak.end());
+  return out;
+}
+
 cv::Mat classifyAll(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
                     const SegmentationParams& params) {
   const BlockOffsets offsets = model.illumination.offsets(

@@ -52,6 +52,14 @@ inline void countMarkerInteriors(const cv::Mat1b& truth, const cv::Mat1b& labels
   }
 }
 
+// Whether the region extractor's scan with a grid of `stride` reads pixel (x, y) of a
+// `size` image: a grid point, or any pixel of the last column or row when the grid misses
+// them (scanGridStride, region_extractor.cpp's scanUnion).
+inline bool scanReads(int x, int y, cv::Size size, int stride) {
+  return (x % stride == 0 && y % stride == 0) || (x == size.width - 1 && (size.width - 1) % stride != 0) ||
+         (y == size.height - 1 && (size.height - 1) % stride != 0);
+}
+
 // The labels as the regions see them: each marker colour's pixels kept where its mask
 // survives an opening with a k x k square (RegionParams::morph_kernel; the closing after it
 // only fills holes in what is kept; k <= 1: none) in a component of at least min_area
@@ -61,11 +69,6 @@ inline void countMarkerInteriors(const cv::Mat1b& truth, const cv::Mat1b& labels
 inline cv::Mat1b openedMarkers(const cv::Mat1b& labels, int k, int min_area = 1, int stride = 1) {
   cv::Mat1b out = labels.clone();
   if (k <= 1 && min_area <= 1 && stride <= 1) return out;
-  const int w = labels.cols, h = labels.rows;
-  const auto scanned = [&](int x, int y) {
-    return (x % stride == 0 && y % stride == 0) || (x == w - 1 && (w - 1) % stride != 0) ||
-           (y == h - 1 && (h - 1) % stride != 0);
-  };
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(std::max(k, 1), std::max(k, 1)));
   for (int c = 0; c < kNumColorClasses; ++c) {
     if (!isMarkerColor(static_cast<ColorClass>(c))) continue;
@@ -82,9 +85,10 @@ inline cv::Mat1b openedMarkers(const cv::Mat1b& labels, int k, int min_area = 1,
     cv::Mat stats, centroids;
     const int n = cv::connectedComponentsWithStats(opened, components, stats, centroids, 8, CV_32S);
     std::vector<char> seen(static_cast<std::size_t>(n), stride <= 1);
-    for (int y = 0; y < h && stride > 1; ++y) {
-      for (int x = 0; x < w; ++x) {
-        if (opened(y, x) && scanned(x, y)) seen[static_cast<std::size_t>(components(y, x))] = 1;
+    for (int y = 0; y < labels.rows && stride > 1; ++y) {
+      for (int x = 0; x < labels.cols; ++x) {
+        if (opened(y, x) && scanReads(x, y, labels.size(), stride))
+          seen[static_cast<std::size_t>(components(y, x))] = 1;
       }
     }
     for (int l = 1; l < n; ++l) {

@@ -80,4 +80,7 @@ TEST(BallStreakTable, SearchesALostBallOnColourImagesOnly) {
   for (const PixelLayout bayer :
        {PixelLayout::BayerRggb, PixelLayout::BayerBggr, PixelLayout::BayerGbrg, PixelLayout::BayerGrbg})
     EXPECT_FALSE(searchesLostBallStreaks(bayer));
+  const std::vector<cv::Rect> ball = {{10, 10, 40, 40}}, lost = {{0, 200, 1280, 80}};
+  EXPECT_EQ(streakWindows(PixelLayout::Bgr, ball, lost), (std::vector<cv::Rect>{ball[0], lost[0]}));
+  EXPECT_EQ(streakWindows(PixelLayout::BayerRggb, ball, lost), ball);
 }

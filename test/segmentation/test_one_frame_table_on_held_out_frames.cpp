@@ -176,8 +176,7 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario, const st
         countMarkerInteriors(scored, labels, out[v], sampled);
         if (opened) {
           const RegionParams q = labelParams(RegionParams{}, labels.cols);
-          const int stride = q.morph_kernel > 1 ? std::max(q.morph_kernel, q.scan_stride) : 1;
-          countMarkerInteriors(scored, openedMarkers(labels, q.morph_kernel, q.min_area, stride),
+          countMarkerInteriors(scored, openedMarkers(labels, q.morph_kernel, q.min_area, scanGridStride(q)),
                                (*opened)[v], sampled);
         }
       }

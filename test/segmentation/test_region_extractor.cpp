@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "label_colors.h"
+#include "marker_interior_accuracy.h"
 #include "soccer_vision/common/statistics.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/pixel_classifier.h"
@@ -102,12 +103,7 @@ struct Blob {
 std::vector<Blob> reference(const cv::Mat1b& labels, const RegionParams& p) {
   std::vector<Blob> blobs;
   const int k = std::max(1, p.morph_kernel);
-  const int stride = p.morph_kernel > 1 ? std::max(k, p.scan_stride) : 1;
-  const int w = labels.cols, h = labels.rows;
-  const auto scanned = [&](int x, int y) {
-    return (x % stride == 0 && y % stride == 0) || (x == w - 1 && (w - 1) % stride != 0) ||
-           (y == h - 1 && (h - 1) % stride != 0);
-  };
+  const int stride = scanGridStride(p);
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k));
   for (int c = 0; c < kNumColorClasses; ++c) {
     if (!(p.classes & classBit(static_cast<ColorClass>(c)))) continue;
@@ -126,9 +122,10 @@ std::vector<Blob> reference(const cv::Mat1b& labels, const RegionParams& p) {
     const int n = cv::connectedComponentsWithStats(mask, cc, stats, centroids, 8, CV_32S);
     std::vector<char> seen(static_cast<std::size_t>(n), stride <= k);
     if (stride > k) {
-      for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-          if (opened.at<std::uint8_t>(y, x) && scanned(x, y)) seen[static_cast<std::size_t>(cc(y, x))] = 1;
+      for (int y = 0; y < labels.rows; ++y) {
+        for (int x = 0; x < labels.cols; ++x) {
+          if (opened.at<std::uint8_t>(y, x) && test::scanReads(x, y, labels.size(), stride))
+            seen[static_cast<std::size_t>(cc(y, x))] = 1;
         }
       }
     }

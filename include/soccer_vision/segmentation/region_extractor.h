@@ -83,6 +83,10 @@ struct RegionStatistics {
 
 struct RegionScratch;  // reusable buffers of the implementation
 
+// The stride of the scan's grid: with an opening (morph_kernel >= 2) max(morph_kernel,
+// scan_stride), without one 1 (require_pair scans the checkerboard instead).
+int scanGridStride(const RegionParams& p);
+
 class RegionExtractor {
  public:
   explicit RegionExtractor(const RegionParams& params = {});

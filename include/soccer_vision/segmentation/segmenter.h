@@ -121,6 +121,10 @@ class Segmenter {
 // cyan and yellow fringes that the streak table takes for a ball blurred with the carpet
 // (docs/segmentation.md#the-balls-streak).
 bool searchesLostBallStreaks(PixelLayout layout);
+// The streak windows of a frame: the ball's, and the lost ball's stripes where the layout
+// takes them (searchesLostBallStreaks).
+std::vector<cv::Rect> streakWindows(PixelLayout layout, const std::vector<cv::Rect>& ball_streak,
+                                    const std::vector<cv::Rect>& lost_ball_streak);
 
 // Labels of every pixel (label resolution) with the same illumination offsets and
 // sharpening as Segmenter::process, e.g. for the debug image and accuracy tests.
