@@ -13,8 +13,11 @@
 //    cubes across an HS cell border own a block (~6 % of them): ~1 MB + ~2 MB instead of a
 //    flat 2^24 table's 32 MB, so lookups stay in L2/L3 even with several cameras.
 //  * Per cube, the classes any of its colours can take at any V (2^18 uint16, 512 KB; the
-//    carpet's few cubes stay in L1) reject most grid points before the lookup proper; the
-//    AVX-512 scan tests a coarser, per-class bit set first (512 cells, one register).
+//    carpet's few cubes stay in L1) reject most pixels before the lookup proper. A
+//    generalised table gives the carpet's colours a marker class too, at a higher V' (a
+//    green marker brighter than the carpet), so the AVX-512 kernels test the V' band as
+//    well: per cube, the bands in which a marker class occurs, and for the scan first, in
+//    registers, per coarse cell (512) the lowest and highest of them.
 #include "soccer_vision/segmentation/pixel_classifier.h"
 
 #include <algorithm>
@@ -44,10 +47,17 @@ struct ClassLookup {
   std::vector<std::uint16_t> block_columns;  // block * 64 + colour in cube -> column id
   std::vector<std::uint8_t> column_classes;  // column id * 256 + V' -> ColorClass
   std::vector<std::uint16_t> cube_classes;   // cube -> ClassMask of its possible classes
-  // Per class, a bit per coarse cell (3 bits per channel: b >> 5, g >> 5, r >> 5) set where
-  // some colour of the cell can take the class: a first test that fits in one register.
+  // Bands of 16 adjusted levels V' (bit k: V' in [16k, 16k + 15]) in which some colour of a
+  // cube takes a marker class (markerClassMask). V' matters: a green marker's cells lie
+  // above the carpet's in V, and without it most carpet points pass a test of colour alone.
+  static constexpr int kBandShift = 4;
+  std::vector<std::uint16_t> cube_marker_bands;
+  // Per coarse cell (3 bits per channel: b >> 5, g >> 5, r >> 5), the lowest and highest
+  // band of its cubes' marker bands (low and high nibble; 0x0F: none): the scan's first
+  // test, in registers. It rejects ~95 % of the carpet's points, which then touch no table.
   static constexpr int kCoarseShift = 5;
-  std::uint64_t coarse_cells[kNumColorClasses][8] = {};
+  static constexpr int kCoarseCells = 1 << (3 * (8 - kCoarseShift));
+  std::uint8_t coarse_marker_range[kCoarseCells] = {};
 
   static std::size_t inCube(int b, int g, int r) {
     constexpr int low = (1 << kCubeShift) - 1;
@@ -57,6 +67,10 @@ struct ClassLookup {
     return (static_cast<std::size_t>(b >> kCubeShift) << (2 * kCubeBits)) |
            (static_cast<std::size_t>(g >> kCubeShift) << kCubeBits) |
            static_cast<std::size_t>(r >> kCubeShift);
+  }
+  static int coarseIndex(int b, int g, int r) {
+    constexpr int bits = 8 - kCoarseShift;
+    return ((b >> kCoarseShift) << (2 * bits)) | ((g >> kCoarseShift) << bits) | (r >> kCoarseShift);
   }
   bool mayBeIn(int b, int g, int r, ClassMask classes) const {
     return cube_classes[cubeIndex(b, g, r)] & classes;
@@ -87,6 +101,7 @@ struct Columns {
   std::vector<std::uint16_t> of_hs_cell;
   std::vector<std::uint8_t> classes;
   std::vector<std::uint16_t> masks;
+  std::vector<std::uint16_t> marker_bands;  // as ClassLookup::cube_marker_bands'
 };
 
 Columns buildColumns(const ColorTable& table) {
@@ -106,12 +121,16 @@ Columns buildColumns(const ColorTable& table) {
             "PixelClassifier: the colour table has more than 65536 distinct V columns");
       }
       std::uint16_t mask = 0;
+      std::uint16_t marker_bands = 0;
       for (int v = 0; v < ClassLookup::kLevels; ++v) {
         const ColorClass c = it->first[static_cast<std::size_t>(table.vBin(v))];
         columns.classes.push_back(static_cast<std::uint8_t>(c));
         mask |= static_cast<std::uint16_t>(classBit(c));
+        if (classBit(c) & markerClassMask())
+          marker_bands |= static_cast<std::uint16_t>(1u << (v >> ClassLookup::kBandShift));
       }
       columns.masks.push_back(mask);
+      columns.marker_bands.push_back(marker_bands);
     }
     columns.of_hs_cell[hs] = it->second;
   }
@@ -158,17 +177,19 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   lookup->column_classes = columns.classes;
   lookup->cube_block.resize(std::size_t(1) << (3 * ClassLookup::kCubeBits));
   lookup->cube_classes.resize(lookup->cube_block.size());
+  lookup->cube_marker_bands.resize(lookup->cube_block.size());
   // Blocks 0 .. n_columns - 1: one uniform block per column.
   for (std::size_t c = 0; c < n_columns; ++c) {
     lookup->block_columns.insert(lookup->block_columns.end(), ClassLookup::kCubeColors,
                                  static_cast<std::uint16_t>(c));
   }
   std::uint16_t ids[ClassLookup::kCubeColors];
+  std::vector<std::uint16_t> coarse_bands(ClassLookup::kCoarseCells);  // OR of their cubes' marker bands
   for (int cb = 0; cb < cubes_per_channel; ++cb) {
     for (int cg = 0; cg < cubes_per_channel; ++cg) {
       for (int cr = 0; cr < cubes_per_channel; ++cr) {
         const int b0 = cb * side, g0 = cg * side, r0 = cr * side;
-        std::uint16_t mask = 0;
+        std::uint16_t mask = 0, marker_bands = 0;
         bool uniform = true;
         for (int db = 0; db < side; ++db) {
           for (int dg = 0; dg < side; ++dg) {
@@ -176,18 +197,15 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
               const std::size_t i = ClassLookup::inCube(db, dg, dr);
               ids[i] = column_of(b0 + db, g0 + dg, r0 + dr);
               mask = static_cast<std::uint16_t>(mask | columns.masks[ids[i]]);
+              marker_bands |= columns.marker_bands[ids[i]];
               uniform = uniform && ids[i] == ids[0];
             }
           }
         }
         const std::size_t cube = ClassLookup::cubeIndex(b0, g0, r0);
         lookup->cube_classes[cube] = mask;
-        const int coarse = ((b0 >> ClassLookup::kCoarseShift) << 6) |
-                           ((g0 >> ClassLookup::kCoarseShift) << 3) | (r0 >> ClassLookup::kCoarseShift);
-        for (int c = 0; c < kNumColorClasses; ++c) {
-          if (mask & classBit(static_cast<ColorClass>(c)))
-            lookup->coarse_cells[c][coarse >> 6] |= 1ULL << (coarse & 63);
-        }
+        lookup->cube_marker_bands[cube] = marker_bands;
+        coarse_bands[ClassLookup::coarseIndex(b0, g0, r0)] |= marker_bands;
         if (uniform) {
           lookup->cube_block[cube] = ids[0];
         } else {
@@ -198,8 +216,14 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
       }
     }
   }
+  for (int cell = 0; cell < ClassLookup::kCoarseCells; ++cell) {
+    const unsigned bands = coarse_bands[static_cast<std::size_t>(cell)];
+    lookup->coarse_marker_range[cell] =
+        bands ? static_cast<std::uint8_t>(__builtin_ctz(bands) | (31 - __builtin_clz(bands)) << 4) : 0x0F;
+  }
   // The AVX-512 scan gathers 4 bytes per entry: padding keeps the last entry's read inside.
   lookup->cube_classes.push_back(0);
+  lookup->cube_marker_bands.push_back(0);
   lookup->block_columns.push_back(0);  // the same for the AVX-512 classification's gathers
   lookup->column_classes.insert(lookup->column_classes.end(), 3, 0);
   lookup->block_columns.shrink_to_fit();
@@ -388,6 +412,7 @@ struct RowAdjustment {
   const std::int16_t* offsets;
   const std::uint16_t* gains;
   int block_shift;
+  int blocks;  // of the row: entries of offsets and gains
   int operator()(int x, int v) const { return adjust(v, offsets[x >> block_shift], gains[x >> block_shift]); }
 };
 
@@ -483,26 +508,72 @@ SV_AVX512 inline __m512i cubeOf(const Colours& c) {
   return _mm512_or_si512(_mm512_or_si512(b, g), _mm512_srli_epi32(c.r, 2));
 }
 
-// ClassLookup::coarse_cells of any class of `classes`.
-struct CoarseCells {
-  std::uint64_t bits[8] = {};
-  CoarseCells(const ClassLookup& lookup, ClassMask classes) {
-    for (int c = 0; c < kNumColorClasses; ++c) {
-      if (!(classes & classBit(static_cast<ColorClass>(c)))) continue;
-      for (int k = 0; k < 8; ++k) bits[k] |= lookup.coarse_cells[c][k];
-    }
-  }
+// The block gains and offsets of lanes at label x `lane_x`, all within the 16 blocks from
+// x's on (a step's points lie within 128 bytes of the row: 64 label px, 5 blocks at most).
+struct LaneAdjustment {
+  __m512i gain, offset;
 };
+SV_AVX512 inline LaneAdjustment laneAdjustment(const RowAdjustment& adjusted, int x, __m512i lane_x) {
+  const int first = x >> adjusted.block_shift;
+  const __mmask16 present = firstLanes(adjusted.blocks - first);
+  const __m512i gains = _mm512_cvtepu16_epi32(_mm256_maskz_loadu_epi16(present, adjusted.gains + first));
+  const __m512i offsets = _mm512_cvtepi16_epi32(_mm256_maskz_loadu_epi16(present, adjusted.offsets + first));
+  const __m512i block = _mm512_sub_epi32(_mm512_srl_epi32(lane_x, _mm_cvtsi32_si128(adjusted.block_shift)),
+                                         _mm512_set1_epi32(first));
+  return {_mm512_permutexvar_epi32(block, gains), _mm512_permutexvar_epi32(block, offsets)};
+}
 
-// The lanes of `live` whose coarse cell is set in `cells` (CoarseCells::bits).
-SV_AVX512 inline __mmask16 coarseTest(const Colours& c, __m512i cells, __mmask16 live) {
-  constexpr int shift = ClassLookup::kCoarseShift;
-  // Bit r >> 5 of byte (b >> 5) * 8 + (g >> 5).
-  const __m512i byte_index =
-      _mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 3), _mm512_srli_epi32(c.g, shift));
-  const __m512i bytes = _mm512_permutexvar_epi8(byte_index, cells);
-  const __m512i bit = _mm512_sllv_epi32(_mm512_set1_epi32(1), _mm512_srli_epi32(c.r, shift));
-  return _mm512_mask_test_epi32_mask(live, bytes, bit);
+// The adjusted levels V' of the lanes' colours (ColorTable::adjustedV).
+SV_AVX512 inline __m512i adjustedLevels(const Colours& c, const LaneAdjustment& adjustment) {
+  const __m512i v = _mm512_max_epi32(_mm512_max_epi32(c.b, c.g), c.r);
+  const __m512i scaled =
+      _mm512_srli_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v, adjustment.gain), _mm512_set1_epi32(128)), 8);
+  return _mm512_min_epi32(
+      _mm512_max_epi32(_mm512_add_epi32(scaled, adjustment.offset), _mm512_setzero_si512()),
+      _mm512_set1_epi32(255));
+}
+
+// The lanes of `live` whose level's band lies within their coarse cell's marker range
+// (ClassLookup::coarse_marker_range, 512 bytes in eight registers).
+SV_AVX512 inline __mmask16 rangeTest(const Colours& c, __m512i level, const __m512i (&ranges)[8],
+                                     __mmask16 live) {
+  constexpr int shift = ClassLookup::kCoarseShift, bits = 8 - shift;
+  const __m512i cell =
+      _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 2 * bits),
+                                      _mm512_slli_epi32(_mm512_srli_epi32(c.g, shift), bits)),
+                      _mm512_srli_epi32(c.r, shift));
+  // Byte `cell` of the 512: a byte permutation picks by the low 7 bits within a pair of
+  // registers, the quarter (cell >> 7) chooses the pair.
+  const __m512i quarter = _mm512_srli_epi32(cell, 7);
+  __m512i range = _mm512_permutex2var_epi8(ranges[0], cell, ranges[1]);
+  for (int q = 1; q < 4; ++q) {
+    const __mmask16 in_quarter = _mm512_cmpeq_epi32_mask(quarter, _mm512_set1_epi32(q));
+    range = _mm512_mask_mov_epi32(range, in_quarter,
+                                  _mm512_permutex2var_epi8(ranges[2 * q], cell, ranges[2 * q + 1]));
+  }
+  const __m512i band = _mm512_srli_epi32(level, ClassLookup::kBandShift);
+  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi32(0x0F));
+  const __m512i highest = _mm512_and_si512(_mm512_srli_epi32(range, 4), _mm512_set1_epi32(0x0F));
+  return _mm512_mask_cmple_epi32_mask(_mm512_mask_cmpge_epi32_mask(live, band, lowest), band, highest);
+}
+
+// The lanes of `may` whose cube takes a marker class in the 16-level band of their level
+// (ClassLookup::cube_marker_bands; the table is padded for the 4-byte reads).
+SV_AVX512 inline __mmask16 cubeBandTest(const ClassLookup& lookup, __m512i cube, __m512i level,
+                                        __mmask16 may) {
+  const __m512i bands =
+      _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cube, lookup.cube_marker_bands.data(), 2);
+  const __m512i bit =
+      _mm512_sllv_epi32(_mm512_set1_epi32(1), _mm512_srli_epi32(level, ClassLookup::kBandShift));
+  return _mm512_mask_test_epi32_mask(may, bands, bit);
+}
+
+// The lanes of `may` whose cube takes a class of `wanted` at some V' (ClassLookup::cube_classes).
+SV_AVX512 inline __mmask16 cubeClassTest(const ClassLookup& lookup, __m512i cube, __m512i wanted,
+                                         __mmask16 may) {
+  const __m512i masks =
+      _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cube, lookup.cube_classes.data(), 2);
+  return _mm512_mask_test_epi32_mask(may, masks, wanted);
 }
 
 // Bytes 0 .. n - 1 of two 64-byte loads.
@@ -550,6 +621,25 @@ SV_AVX512 inline Colours pickColours(const LabelRow& row, int x, int n, int span
   }
 }
 
+// ClassLookup::classAt of the lanes of `may` (0 elsewhere): the three lookups as gathers
+// (the tables are padded for their 4-byte reads), V adjusted by each lane's block.
+SV_AVX512 inline __m512i labelsOf(const ClassLookup& lookup, const Colours& c, __m512i cube, __m512i level,
+                                  __mmask16 may) {
+  const __m512i zero = _mm512_setzero_si512(), three = _mm512_set1_epi32(3);
+  const __m512i block = _mm512_mask_i32gather_epi32(zero, may, cube, lookup.cube_block.data(), 4);
+  const __m512i in_cube = _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_and_si512(c.b, three), 4),
+                                                          _mm512_slli_epi32(_mm512_and_si512(c.g, three), 2)),
+                                          _mm512_and_si512(c.r, three));
+  const __m512i column = _mm512_and_si512(
+      _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(block, 6), in_cube),
+                                  lookup.block_columns.data(), 2),
+      _mm512_set1_epi32(0xFFFF));
+  return _mm512_and_si512(
+      _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(column, 8), level),
+                                  lookup.column_classes.data(), 1),
+      _mm512_set1_epi32(0xFF));
+}
+
 // scanRow, as many points at a time as lie in 128 bytes of each channel's row (at most 16).
 template <int Step>
 SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted,
@@ -563,24 +653,32 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
   if (per_step >= 4) {
     const __m512i index = spanIndex(span);
     const __m512i wanted = _mm512_set1_epi32(static_cast<int>(classes & 0xFFFF));
-    const __m512i cells = _mm512_loadu_si512(CoarseCells(lookup, classes).bits);
+    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __m512i one = _mm512_set1_epi32(1);
+    const __m512i lane_step = _mm512_mullo_epi32(lanes, _mm512_set1_epi32(stride));
+    // The coarse cells' marker ranges know the marker classes only.
+    const bool markers_only = (classes & ~markerClassMask()) == 0;
+    __m512i ranges[8];
+    for (int k = 0; k < 8; ++k) ranges[k] = _mm512_loadu_si512(lookup.coarse_marker_range + 64 * k);
     for (; done < points; done += per_step) {
       const int n = std::min(per_step, points - done);
       const int x = x0 + done * stride;
       const Colours c = pickColours<Step>(row, x, n, span, index);
-      const __mmask16 may = coarseTest(c, cells, firstLanes(n));
-      if (!may) continue;
-      // The cube test of the rest: cube_classes entries gathered 4 bytes each (the table is padded).
-      const __m512i masks =
-          _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cubeOf(c), lookup.cube_classes.data(), 2);
-      unsigned candidates = _mm512_mask_test_epi32_mask(may, masks, wanted);
-      while (candidates) {
-        const int xi = x + __builtin_ctz(candidates) * stride;
-        candidates &= candidates - 1;
-        const std::size_t i = static_cast<std::size_t>(xi) * Step;
-        const unsigned b = row.b[i], r = row.r[i];
-        const unsigned g = Step == 3 ? row.g1[i] : (row.g1[i] + row.g2[i] + 1u) >> 1;
-        checkGridPoint(lookup, adjusted, xi, y, b, g, r, classes, hits);
+      const __m512i level =
+          adjustedLevels(c, laneAdjustment(adjusted, x, _mm512_add_epi32(_mm512_set1_epi32(x), lane_step)));
+      // Most points (carpet) end here, tested in registers without touching the tables.
+      const __mmask16 maybe = markers_only ? rangeTest(c, level, ranges, firstLanes(n)) : firstLanes(n);
+      if (!maybe) continue;
+      const __m512i cube = cubeOf(c);
+      const __mmask16 candidates = markers_only ? cubeBandTest(lookup, cube, level, maybe)
+                                                : cubeClassTest(lookup, cube, wanted, maybe);
+      if (!candidates) continue;
+      // The lookup proper in registers too (one scalar lookup per point was dearer).
+      const __m512i label = labelsOf(lookup, c, cube, level, candidates);
+      unsigned found = _mm512_mask_test_epi32_mask(candidates, _mm512_sllv_epi32(one, label), wanted);
+      while (found) {
+        hits.emplace_back(x + __builtin_ctz(found) * stride, y);
+        found &= found - 1;
       }
     }
   }
@@ -588,9 +686,8 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
   if (rest < x1) scanRow<Step>(lookup, row, adjusted, y, rest, x1, stride, classes, hits);
 }
 
-// classifyRowKeeping, 16 label pixels per step: colours picked as by the scan, then the
-// three lookups of ClassLookup::classAt as gathers (the tables are padded for their 4-byte
-// reads), the V adjustment of the (at most two) blocks the 16 pixels lie in.
+// classifyRowKeeping, 16 label pixels per step: colours picked as by the scan, the cube test
+// (by V' band when only markers are kept), then labelsOf.
 template <int Step>
 SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row,
                                  const RowAdjustment& adjusted, int x0, int x1, ClassMask keep,
@@ -599,43 +696,20 @@ SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row,
   const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512i index = spanIndex(span);
   const __m512i wanted = _mm512_set1_epi32(static_cast<int>(keep & 0xFFFF));
-  const __m512i zero = _mm512_setzero_si512(), three = _mm512_set1_epi32(3);
-  const __m128i shift = _mm_cvtsi32_si128(adjusted.block_shift);
+  const __m512i zero = _mm512_setzero_si512();
+  const bool markers_only = (keep & ~markerClassMask()) == 0;
   for (int x = x0; x < x1; x += 16) {
     const int n = std::min(16, x1 - x);
     const __mmask16 live = firstLanes(n);
     const Colours c = pickColours<Step>(row, x, n, span, index);
     const __m512i cube = cubeOf(c);
-    const __m512i masks = _mm512_mask_i32gather_epi32(zero, live, cube, lookup.cube_classes.data(), 2);
-    const __mmask16 may = _mm512_mask_test_epi32_mask(live, masks, wanted);
+    const __m512i level =
+        adjustedLevels(c, laneAdjustment(adjusted, x, _mm512_add_epi32(_mm512_set1_epi32(x), lanes)));
+    const __mmask16 may =
+        markers_only ? cubeBandTest(lookup, cube, level, live) : cubeClassTest(lookup, cube, wanted, live);
     __m512i label = zero;
     if (may) {
-      const __m512i block = _mm512_mask_i32gather_epi32(zero, may, cube, lookup.cube_block.data(), 4);
-      const __m512i in_cube =
-          _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_and_si512(c.b, three), 4),
-                                          _mm512_slli_epi32(_mm512_and_si512(c.g, three), 2)),
-                          _mm512_and_si512(c.r, three));
-      const __m512i column = _mm512_and_si512(
-          _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(block, 6), in_cube),
-                                      lookup.block_columns.data(), 2),
-          _mm512_set1_epi32(0xFFFF));
-      // The block of each pixel: the first one's, or the next one's from where it begins.
-      const int first = x >> adjusted.block_shift, last = (x + n - 1) >> adjusted.block_shift;
-      const __mmask16 next = _mm512_cmpgt_epi32_mask(
-          _mm512_srl_epi32(_mm512_add_epi32(_mm512_set1_epi32(x), lanes), shift), _mm512_set1_epi32(first));
-      const __m512i gain = _mm512_mask_blend_epi32(next, _mm512_set1_epi32(adjusted.gains[first]),
-                                                   _mm512_set1_epi32(adjusted.gains[last]));
-      const __m512i offset = _mm512_mask_blend_epi32(next, _mm512_set1_epi32(adjusted.offsets[first]),
-                                                     _mm512_set1_epi32(adjusted.offsets[last]));
-      const __m512i v = _mm512_max_epi32(_mm512_max_epi32(c.b, c.g), c.r);
-      const __m512i scaled =
-          _mm512_srli_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v, gain), _mm512_set1_epi32(128)), 8);
-      const __m512i level =
-          _mm512_min_epi32(_mm512_max_epi32(_mm512_add_epi32(scaled, offset), zero), _mm512_set1_epi32(255));
-      label = _mm512_and_si512(
-          _mm512_mask_i32gather_epi32(zero, may, _mm512_or_si512(_mm512_slli_epi32(column, 8), level),
-                                      lookup.column_classes.data(), 1),
-          _mm512_set1_epi32(0xFF));
+      label = labelsOf(lookup, c, cube, level, may);
       const __mmask16 kept =
           _mm512_mask_test_epi32_mask(may, _mm512_sllv_epi32(_mm512_set1_epi32(1), label), wanted);
       label = _mm512_maskz_mov_epi32(kept, label);
@@ -663,7 +737,7 @@ void prefetchLabelRow(const cv::Mat& image, PixelLayout layout, int y, int x0, i
 
 RowAdjustment rowAdjustment(const cv::Mat& offsets, const cv::Mat& gains, int block_shift, int y) {
   return {offsets.ptr<std::int16_t>(y >> block_shift), gains.ptr<std::uint16_t>(y >> block_shift),
-          block_shift};
+          block_shift, offsets.cols};
 }
 
 }  // namespace

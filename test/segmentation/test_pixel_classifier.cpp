@@ -402,9 +402,9 @@ TEST_P(ScanKernels, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
     for (const cv::Rect rect : {cv::Rect(0, 0, size.width, size.height), cv::Rect(101, 58, 333, 250),
                                 cv::Rect(size.width - 41, size.height - 40, 41, 40), cv::Rect(5, 5, 0, 9)}) {
       for (int stride : {1, 2, 3, 4}) {
-        for (ClassMask classes :
-             {markerClassMask(), classBit(ColorClass::Carpet) | classBit(ColorClass::Blue),
-              classBit(ColorClass::None), ClassMask(0)}) {
+        for (ClassMask classes : {markerClassMask(), classBit(ColorClass::Green),
+                                  classBit(ColorClass::Carpet) | classBit(ColorClass::Blue),
+                                  classBit(ColorClass::None), ClassMask(0)}) {
           std::vector<cv::Point> expected;
           for (int y = rect.y; y < rect.y + rect.height; ++y) {
             for (int x = rect.x; x < rect.x + rect.width; ++x) {
