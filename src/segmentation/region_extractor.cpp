@@ -67,7 +67,7 @@ struct RegionScratch {
   cv::Mat patch;                                             // labels of the patch around a hit
   std::vector<std::uint8_t> pending;                         // per hit: its opening test is left to its area
   std::vector<std::uint8_t> tiles;     // per tile: 2 = within reach of a kept hit (after tileAreas)
-  std::vector<std::uint8_t> labelled;  // per tile: its labels are written in this frame
+  std::vector<std::uint8_t> labelled;  // per tile: TileLabels, how its labels are written in this frame
   std::vector<int> tile_stack;
   std::vector<Area> areas;
   cv::Mat labels;  // label image of the frame, valid inside the `labelled` tiles only
@@ -327,52 +327,111 @@ void tileAreas(const std::vector<cv::Point>& hits, int tile, int reach, const cv
   mergeOverlapping(s.areas);
 }
 
+// Per tile, how its labels are written in this frame (RegionScratch::labelled).
+enum TileLabels : std::uint8_t { kUnwritten = 0, kClassified = 1, kWrittenNone = 2 };
+
+// Whether label pixels of tile `t` within `reach` of its neighbour in direction (dx, dy)
+// hold a class (the labels hold only the classes kept).
+bool classNearSide(const cv::Mat& labels, const cv::Rect& t, int dx, int dy, int reach) {
+  const int x0 = dx > 0 ? std::max(t.x, t.br().x - reach) : t.x;
+  const int x1 = dx < 0 ? std::min(t.br().x, t.x + reach) : t.br().x;
+  const int y0 = dy > 0 ? std::max(t.y, t.br().y - reach) : t.y;
+  const int y1 = dy < 0 ? std::min(t.br().y, t.y + reach) : t.br().y;
+  for (int y = y0; y < y1; ++y) {
+    const std::uint8_t* row = labels.ptr<std::uint8_t>(y);
+    for (int x = x0; x < x1; ++x) {
+      if (row[x]) return true;
+    }
+  }
+  return false;
+}
+
 // Labels of `rect`, a view into the frame's label image, written tile by tile, each tile
-// once per frame however often its areas grow or merge. With morphology (`only_marked`)
-// only the tiles within reach of a kept hit (tileAreas' 2s) or of unscanned pixels are
-// classified; the others are written as None. That changes no region: the erosion finds the k x k squares of
-// a class, each holds a kept hit within reach of all its pixels, so every such square lies in classified
-// tiles, and a square that is all of a class here is classified, so one in truth too: the erosion is
-// unchanged (inside the margin), and all that follows depends on it only. Packed robots' tile groups fill
-// about half of their bounding boxes: in the crowd (32 robots) 61k instead of 112k pixels classified.
+// classified at most once per frame however often its areas grow or merge. With morphology
+// (`only_marked`) only the tiles within reach of a kept hit (tileAreas' 2s) or of unscanned
+// pixels are classified; the others are written as None. With a grid of stride k that
+// changes no region: the erosion finds the k x k squares of a class, each holds a kept hit
+// within reach of all its pixels, so every such square lies in classified tiles, and a square
+// that is all of a class here is classified, so one in truth too: the erosion is unchanged
+// (inside the margin), and all that follows depends on it only. Packed robots' tile groups
+// fill about half of their bounding boxes: in the crowd (32 robots) 61k instead of 112k
+// pixels classified. A coarser grid (stride > k) may miss a region's squares, so `flood`
+// > 0 classifies every tile of `rect` with a class pixel of a classified tile within
+// `flood` px of it, until none is left: every class pixel within `flood` (>= k) of a
+// classified one is then classified, the pixels a hit's region and what its closing joins
+// to it are made of, and the unclassified rest is None in truth as well as far as they go.
 cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int tile, int reach,
-                         bool only_marked, ClassMask classes, Scratch& s, std::uint32_t& classified) {
+                         bool only_marked, int flood, ClassMask classes, Scratch& s,
+                         std::uint32_t& classified) {
   const cv::Rect image(cv::Point(0, 0), s.labels.size());
   const int tiles_x = (image.width + tile - 1) / tile;
   const int tx_begin = rect.x / tile, tx_end = (rect.br().x - 1) / tile + 1;
-  for (int ty = rect.y / tile; ty <= (rect.br().y - 1) / tile; ++ty) {
+  const int ty_begin = rect.y / tile, ty_end = (rect.br().y - 1) / tile + 1;
+  auto tile_rect = [&](int tx, int ty) { return cv::Rect(tx * tile, ty * tile, tile, tile) & image; };
+  auto classify_run = [&](const cv::Rect& run) {
+    cv::Mat out = s.labels(run);
+    frame.classify(run, out, classes);
+    classified += static_cast<std::uint32_t>(run.area());
+  };
+  for (int ty = ty_begin; ty < ty_end; ++ty) {
     const std::size_t row = static_cast<std::size_t>(ty) * tiles_x;
     // A tile is left unclassified only where the grid was scanned within reach of it: a
     // region followed out of the search windows has no hits there.
     auto classify_tile = [&](int tx) {
       if (!only_marked || s.tiles[row + tx] == 2) return true;
-      const cv::Rect near = grownBy(cv::Rect(tx * tile, ty * tile, tile, tile) & image, reach, image);
+      const cv::Rect near = grownBy(tile_rect(tx, ty), reach, image);
       for (const cv::Rect& scanned : s.scanned) {
         if ((near & scanned) == near) return false;
       }
       return true;
     };
     for (int tx = tx_begin; tx < tx_end;) {
-      if (s.labelled[row + tx]) {
+      if (s.labelled[row + tx] != kUnwritten) {
         ++tx;
         continue;
       }
-      // A run of unlabelled tiles treated alike: one call, not one per tile.
+      // A run of unwritten tiles treated alike: one call, not one per tile.
       const bool classify = classify_tile(tx);
       int end = tx + 1;
-      while (end < tx_end && !s.labelled[row + end] && classify_tile(end) == classify) ++end;
+      while (end < tx_end && s.labelled[row + end] == kUnwritten && classify_tile(end) == classify) ++end;
       std::fill(s.labelled.begin() + static_cast<std::ptrdiff_t>(row + tx),
-                s.labelled.begin() + static_cast<std::ptrdiff_t>(row + end), 1);
+                s.labelled.begin() + static_cast<std::ptrdiff_t>(row + end),
+                classify ? kClassified : kWrittenNone);
       const cv::Rect run = cv::Rect(tx * tile, ty * tile, (end - tx) * tile, tile) & image;
       if (classify) {
-        cv::Mat out = s.labels(run);
-        frame.classify(run, out, classes);
-        classified += static_cast<std::uint32_t>(run.area());
+        classify_run(run);
       } else {
         for (int y = run.y; y < run.br().y; ++y)
           std::fill_n(s.labels.ptr<std::uint8_t>(y) + run.x, run.width, 0);
       }
       tx = end;
+    }
+  }
+  if (flood > 0) {
+    auto& todo = s.tile_stack;
+    todo.clear();
+    for (int ty = ty_begin; ty < ty_end; ++ty) {
+      for (int tx = tx_begin; tx < tx_end; ++tx) {
+        if (s.labelled[static_cast<std::size_t>(ty) * tiles_x + tx] == kClassified)
+          todo.push_back(ty * tiles_x + tx);
+      }
+    }
+    while (!todo.empty()) {
+      const int t = todo.back();
+      todo.pop_back();
+      const int tx = t % tiles_x, ty = t / tiles_x;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = tx + dx, ny = ty + dy;
+          if ((dx == 0 && dy == 0) || nx < tx_begin || nx >= tx_end || ny < ty_begin || ny >= ty_end)
+            continue;
+          std::uint8_t& state = s.labelled[static_cast<std::size_t>(ny) * tiles_x + nx];
+          if (state == kClassified || !classNearSide(s.labels, tile_rect(tx, ty), dx, dy, flood)) continue;
+          state = kClassified;
+          classify_run(tile_rect(nx, ny));
+          todo.push_back(ny * tiles_x + nx);
+        }
+      }
     }
   }
   return s.labels(rect);
@@ -410,9 +469,11 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   // require_pair, a domino: the scan's grid and hit test follow from that.
   const HitRule rule{std::max(1, k), !morphology && params_.require_pair};
   const int stride = rule.pair ? 2 : scanGridStride(params_);
-  // Tiles far from every kept hit are left unclassified only when each k x k square of a
-  // class holds a grid point (stride k): with a coarser grid a region's square may hold none.
-  const bool only_marked = morphology && stride == k;
+  // Tiles far from every kept hit are left unclassified; when a k x k square of a class may
+  // hold no grid point (stride > k), the classification floods out from the classified tiles
+  // along the classes' pixels (classifiedLabels).
+  const bool only_marked = morphology;
+  const int flood = only_marked && stride > k ? k : 0;
   const int tile = params_.tile_size;
   Clock::time_point since = Clock::now();
 
@@ -472,8 +533,8 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     area.regions.clear();
     const cv::Rect core = area.core;
     const cv::Rect outer = grownBy(core, margin, image);
-    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), only_marked, params_.classes, s,
-                                            stats.classified_pixels);
+    const cv::Mat labels = classifiedLabels(frame, outer, tile, rule.reach(), only_marked, flood,
+                                            params_.classes, s, stats.classified_pixels);
     // Hits whose seed box reaches into the core, with their class.
     s.area_hits.clear();
     ClassMask present = 0;
