@@ -440,13 +440,19 @@ template <int Step>
 void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int x0,
                         int x1, ClassMask keep, std::uint8_t* out) {
   const std::uint16_t* cube_classes = lookup.cube_classes.data();
+  const std::uint16_t* marker_bands = lookup.cube_marker_bands.data();
+  const bool markers_only = (keep & ~markerClassMask()) == 0;
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; ++x) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
+    const std::size_t cube = cubeOf(unsigned(b), unsigned(g), unsigned(r));
     std::uint8_t label = 0;
-    if (cube_classes[cubeOf(unsigned(b), unsigned(g), unsigned(r))] & keep) {
-      label = lookup.classAt(b, g, r, adjusted(x, maxOf(b, g, r)));
-      if (!(keep & (ClassMask(1) << label))) label = 0;
+    if (cube_classes[cube] & keep) {
+      const int level = adjusted(x, maxOf(b, g, r));
+      if (!markers_only || (marker_bands[cube] >> (level >> ClassLookup::kBandShift) & 1)) {
+        label = lookup.classAt(b, g, r, level);
+        if (!(keep & (ClassMask(1) << label))) label = 0;
+      }
     }
     *out++ = label;
   }
@@ -467,14 +473,21 @@ template <int Step>
 void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted, int y, int x0,
              int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
   const std::uint16_t* cube_classes = lookup.cube_classes.data();
+  const std::uint16_t* marker_bands = lookup.cube_marker_bands.data();
+  const bool markers_only = (classes & ~markerClassMask()) == 0;
   const std::uint8_t *pb = row.b, *pg1 = row.g1, *pg2 = row.g2, *pr = row.r;
   const std::size_t step = static_cast<std::size_t>(stride) * Step;
   std::size_t i = static_cast<std::size_t>(x0) * Step;
   for (int x = x0; x < x1; x += stride, i += step) {
     const unsigned b = pb[i], r = pr[i];
     const unsigned g = Step == 3 ? pg1[i] : (pg1[i] + pg2[i] + 1u) >> 1;  // bgr8/rgb8: one green
-    if (cube_classes[cubeOf(b, g, r)] & classes)
-      checkGridPoint(lookup, adjusted, x, y, b, g, r, classes, hits);
+    const std::size_t cube = cubeOf(b, g, r);
+    if (!(cube_classes[cube] & classes)) continue;
+    // The V' band, as the AVX-512 scan tests it (ClassLookup::cube_marker_bands).
+    if (markers_only &&
+        !(marker_bands[cube] >> (adjusted(x, maxOf(int(b), int(g), int(r))) >> ClassLookup::kBandShift) & 1))
+      continue;
+    checkGridPoint(lookup, adjusted, x, y, b, g, r, classes, hits);
   }
 }
 
