@@ -606,8 +606,11 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 // hit check, whose patches are classified before the tiles: 1.52x the frame's pixels
 // classified, 64-67x a normal frame on a quiet machine (3.5 sigmas: 1.16x, 44x; 6 sigmas:
 // 1.91x, 75x). Another print's spread of the markers (ColorTableParams::print_spread 0.1):
-// 1.78x the frame's pixels, 47-61x a normal frame. So the time bound is loose and the pixel
-// count, which does not depend on the machine, is the tight one.
+// 1.78x the frame's pixels, 47-61x a normal frame. The V' band tests (2026-12-05) made the
+// normal frame ~2x faster and the noise frame no dearer per pixel (its random colours miss
+// the caches at every lookup): 1.24x the frame's pixels, 94-106x a normal frame on a quiet
+// machine, 166x beside a build. So the time bound is loose and the pixel count, which does
+// not depend on the machine, is the tight one.
 TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   ScenarioConfig scenario;
   const FieldGeometry field;
@@ -638,7 +641,7 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   // smaller (a role tag here is ~50 px, a team tag ~100 px).
   EXPECT_LE(regions.size(), noise.total() / 40000);
   for (const Region& r : regions) EXPECT_LE(r.area, 12u) << colorClassName(r.color);
-  EXPECT_LE(noise_ms, 150 * normal_ms);
+  EXPECT_LE(noise_ms, 250 * normal_ms);
   EXPECT_LE(noise_stats.classified_pixels, noise.total() * 2);
 }
 
