@@ -358,8 +358,8 @@ bool classNearSide(const cv::Mat& labels, const cv::Rect& t, int dx, int dy, int
 // pixels classified. A coarser grid (stride > k) may miss a region's squares, so `flood`
 // > 0 classifies every tile of `rect` with a class pixel of a classified tile within
 // `flood` px of it, until none is left: every class pixel within `flood` (>= k) of a
-// classified one is then classified, the pixels a hit's region and what its closing joins
-// to it are made of, and the unclassified rest is None in truth as well as far as they go.
+// classified one is then classified — the pixels a hit's region and what its closing joins
+// to it are made of — and no tile left as None holds a class pixel within reach of them.
 cv::Mat classifiedLabels(const FrameClassifier& frame, const cv::Rect& rect, int tile, int reach,
                          bool only_marked, int flood, ClassMask classes, Scratch& s,
                          std::uint32_t& classified) {

@@ -177,8 +177,8 @@ nlohmann::json runResolution(const cv::Size& size, const Options& o, std::FILE* 
       std::make_shared<const sv::ColorTable>(sv::calibrateColorTable({{bgr.front(), samples}}));
   std::shared_ptr<const sv::SegmentationModel> model;
   const double model_ms = timeMs([&] { model = sv::SegmentationModel::fromTable(table); });
-  // A Bayer camera is calibrated on its own quads' colours, as its user does: the bgr8
-  // table reads the lines' colour fringes as markers (~150 regions a frame).
+  // A Bayer camera is calibrated on its own quads' colours, as its user does (they are not
+  // the bgr8 frame's: the quads across a line's edge read yellow or cyan).
   const auto bayer_model = sv::SegmentationModel::fromTable(std::make_shared<const sv::ColorTable>(
       sv::calibrateColorTable({{sv::classifiedColors(bayer.front(), sv::PixelLayout::BayerRggb), samples}})));
   const sv::OpenCvBaseline baseline(*table);
