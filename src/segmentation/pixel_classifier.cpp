@@ -230,6 +230,9 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   return lookup;
 }
 
+// Whether `classes` holds marker classes only: the V' band tables know those alone.
+bool onlyMarkerClasses(ClassMask classes) { return (classes & ~markerClassMask()) == 0; }
+
 // Label rows of one frame read with a compile-time pixel step (3: bgr/rgb, 2: Bayer).
 template <int Step>
 struct Pixels {
@@ -441,7 +444,7 @@ void classifyRowKeeping(const ClassLookup& lookup, const LabelRow& row, const Ro
                         int x1, ClassMask keep, std::uint8_t* out) {
   const std::uint16_t* cube_classes = lookup.cube_classes.data();
   const std::uint16_t* marker_bands = lookup.cube_marker_bands.data();
-  const bool markers_only = (keep & ~markerClassMask()) == 0;
+  const bool markers_only = onlyMarkerClasses(keep);
   const Pixels<Step> px(row);
   for (int x = x0; x < x1; ++x) {
     const int b = px.b(x), g = px.g(x), r = px.r(x);
@@ -474,7 +477,7 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
              int x1, int stride, ClassMask classes, std::vector<cv::Point>& hits) {
   const std::uint16_t* cube_classes = lookup.cube_classes.data();
   const std::uint16_t* marker_bands = lookup.cube_marker_bands.data();
-  const bool markers_only = (classes & ~markerClassMask()) == 0;
+  const bool markers_only = onlyMarkerClasses(classes);
   const std::uint8_t *pb = row.b, *pg1 = row.g1, *pg2 = row.g2, *pr = row.r;
   const std::size_t step = static_cast<std::size_t>(stride) * Step;
   std::size_t i = static_cast<std::size_t>(x0) * Step;
@@ -669,8 +672,7 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
     const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const __m512i one = _mm512_set1_epi32(1);
     const __m512i lane_step = _mm512_mullo_epi32(lanes, _mm512_set1_epi32(stride));
-    // The coarse cells' marker ranges know the marker classes only.
-    const bool markers_only = (classes & ~markerClassMask()) == 0;
+    const bool markers_only = onlyMarkerClasses(classes);
     __m512i ranges[8];
     for (int k = 0; k < 8; ++k) ranges[k] = _mm512_loadu_si512(lookup.coarse_marker_range + 64 * k);
     for (; done < points; done += per_step) {
@@ -710,7 +712,7 @@ SV_AVX512 void classifyRowAvx512(const ClassLookup& lookup, const LabelRow& row,
   const __m512i index = spanIndex(span);
   const __m512i wanted = _mm512_set1_epi32(static_cast<int>(keep & 0xFFFF));
   const __m512i zero = _mm512_setzero_si512();
-  const bool markers_only = (keep & ~markerClassMask()) == 0;
+  const bool markers_only = onlyMarkerClasses(keep);
   for (int x = x0; x < x1; x += 16) {
     const int n = std::min(16, x1 - x);
     const __mmask16 live = firstLanes(n);

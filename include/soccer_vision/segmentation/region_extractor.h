@@ -12,8 +12,8 @@
 // With morphology off (kernel 0 or 1) the stride is 1 (every pixel), or the checkerboard
 // when regions must hold two adjacent pixels (require_pair: the same argument for dominoes).
 // A grid coarser than the kernel (RegionParams::scan_stride, the default with the 2x2
-// opening) finds the regions that hold one of its points: exactly those, with the areas
-// around their hits classified whole.
+// opening) finds the regions that hold one of its points: exactly those, the classification
+// flooding out from the tiles around their hits along the classes' pixels.
 //
 // Search windows restrict the scan and the classification to given rectangles; regions
 // crossing a window border are followed out of it (grown like tiles), so they are never
