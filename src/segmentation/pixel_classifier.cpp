@@ -499,7 +499,8 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
 // 16 grid points per step. The image bytes come from two masked 64-byte loads (never past
 // the points' own bytes) and a byte permutation, not a gather: the scan is the first touch
 // of those bytes, and Zen 4's gathers stall on such misses. Most points (carpet) are then
-// rejected by a test in registers (ClassLookup::coarse_cells) without touching the tables.
+// rejected by a test in registers (rangeTest, ClassLookup::coarse_marker_range) without
+// touching the tables.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's intrinsics headers
 #define SV_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vbmi")))
