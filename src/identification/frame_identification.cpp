@@ -15,13 +15,13 @@ void FrameIdentifier::setParams(const IdentificationParams& params) {
 }
 
 CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp,
-                                                int camera_id, bool global_search, bool mosaic,
+                                                int camera_id, bool global_search,
                                                 std::vector<int>* confirmed) const {
   CameraFrameDetections out;
   out.stamp = stamp;
   out.camera_id = camera_id;
   out.global_search = global_search;
-  RobotIdentificationResult robots = robots_.identify(regions, mosaic);
+  RobotIdentificationResult robots = robots_.identify(regions);
   out.robots = std::move(robots.robots);
   out.rejections = robots.rejections;
   out.rejected_robots = std::move(robots.rejected);

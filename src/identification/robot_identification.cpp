@@ -445,9 +445,8 @@ RobotIdentifier::RobotIdentifier(const CameraModel& camera, const PatternSet& pa
                                  const RobotIdentificationParams& params)
     : camera_(camera), patterns_(patterns), params_(params) {}
 
-RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions, bool mosaic) const {
-  const Matcher m(camera_, patterns_, params_, regions,
-                  mosaic ? params_.axis_weight_mosaic : params_.axis_weight);
+RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions) const {
+  const Matcher m(camera_, patterns_, params_, regions, params_.axis_weight);
   const auto& obs = m.observed();
   std::vector<char> used(obs.size(), 0);
   std::set<std::pair<Team, int>> taken;

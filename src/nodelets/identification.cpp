@@ -39,7 +39,6 @@ IdentificationParams toIdentificationParams(const IdentificationConfig& c) {
   p.robots.marker_gate = c.marker_gate;
   p.robots.area_ratio_gate = c.area_ratio_gate;
   p.robots.axis_weight = c.axis_weight;
-  p.robots.axis_weight_mosaic = c.axis_weight_mosaic;
   p.robots.min_confidence = c.min_confidence;
   p.robots.max_missing_markers = c.max_missing_markers;
   p.robots.report_unidentified = c.report_unidentified;
@@ -254,7 +253,7 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   try {
     const CameraFrameDetections d =
         identifier->identify(regions, blobs->header.stamp.toSec(), camera_id_, blobs->global_search,
-                             blobs->mosaic, confirm ? &confirmed : nullptr);
+                             confirm ? &confirmed : nullptr);
     toCameraDetections(d, blobs->header, *out);
     rejections = d.rejections;
   } catch (const std::exception& e) {

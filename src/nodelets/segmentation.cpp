@@ -241,6 +241,7 @@ class SegmentationNodelet : public nodelet::Nodelet {
   double window_ms_sum_ = 0, window_ms_max_ = 0;
   std::array<std::uint64_t, kNumColorClasses> window_regions_{};
   std::array<std::uint64_t, kNumColorClasses> cap_hits_total_{};
+  std::array<std::uint64_t, kNumColorClasses> fringes_total_{};  // Bayer colour fringes dropped
   std::uint64_t window_cap_hits_ = 0;
   std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0, dropped_error_ = 0;
   std::uint64_t window_dropped_ = 0;
@@ -547,6 +548,7 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     for (const Region& r : result_.regions) ++window_regions_[static_cast<int>(r.color)];
     for (int c = 0; c < kNumColorClasses; ++c) {
       cap_hits_total_[c] += result_.cap_hits[c];
+      fringes_total_[c] += result_.fringes[c];
       window_cap_hits_ += result_.cap_hits[c];
     }
     if (!result_.global_search) ++windowed_frames_;
@@ -824,11 +826,12 @@ void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrappe
   stat.add("processing time mean [ms]", window_frames_ ? window_ms_sum_ / window_frames_ : 0.0);
   stat.add("processing time max [ms]", window_ms_max_);
   for (int c = 1; c < kNumColorClasses; ++c) {
-    if (window_regions_[c] == 0 && cap_hits_total_[c] == 0) continue;
+    if (window_regions_[c] == 0 && cap_hits_total_[c] == 0 && fringes_total_[c] == 0) continue;
     const std::string name(colorClassName(static_cast<ColorClass>(c)));
     stat.add("regions per frame " + name,
              window_frames_ ? static_cast<double>(window_regions_[c]) / window_frames_ : 0.0);
     if (cap_hits_total_[c]) stat.add("cap hits (total) " + name, cap_hits_total_[c]);
+    if (fringes_total_[c]) stat.add("Bayer colour fringes dropped (total) " + name, fringes_total_[c]);
   }
   stat.add("frames processed", frames_processed_);
   stat.add("frames with search windows", windowed_frames_);

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "soccer_vision/segmentation/binary_morphology.h"
+#include "soccer_vision/segmentation/mosaic_fringes.h"
 #include "soccer_vision/segmentation/region_moments.h"
 #include "soccer_vision/segmentation/run_length_components.h"
 
@@ -26,7 +27,8 @@
 //     A region holding a hit that touches a side of the rectangle that is not the image
 //     border may continue outside: the area grows by a tile on that side (merging with
 //     areas it meets) and is redone;
-//  4. regions holding a hit, within the area filter, get their moments; then the cap.
+//  4. regions holding a hit, within the area filter and (Bayer quads) not a colour fringe,
+//     get their moments; then the cap.
 // Both equal the centred opening + closing (cv::erode/cv::dilate with the anchors of
 // binary_morphology.h; cv::morphologyEx for odd k) and cv::connectedComponentsWithStats
 // (connectivity 8), which
@@ -465,6 +467,7 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
   const cv::Rect image(cv::Point(0, 0), frame.labelSize());
   const int k = params_.morph_kernel;
   const bool morphology = k > 1;
+  const bool mosaic = isBayer(frame.layout()) && params_.min_agreeing_green_share > 0;
   // Every region kept holds a k x k square of its class (the opening) or, with
   // require_pair, a domino: the scan's grid and hit test follow from that.
   const HitRule rule{std::max(1, k), !morphology && params_.require_pair};
@@ -602,6 +605,11 @@ void RegionExtractor::extract(const FrameClassifier& frame, const std::vector<cv
     for (const auto& [c, label] : s.found) {
       const RunLengthComponents& components = s.components[static_cast<std::size_t>(c)];
       const ComponentStats& component = components.components()[static_cast<std::size_t>(label)];
+      if (mosaic && quadsWithAgreeingGreens(frame, components.runsBegin(label), components.runsEnd(label),
+                                            core.tl()) < params_.min_agreeing_green_share * component.area) {
+        ++stats.fringes[static_cast<std::size_t>(c)];
+        continue;
+      }
       Region r;
       r.color = static_cast<ColorClass>(c);
       r.area = component.area;

@@ -135,6 +135,7 @@ void Segmenter::findBallStreaks(const SegmentationModel& model, const cv::Mat& i
     ++out.streak_regions;
   }
   out.streak_windows = static_cast<std::uint32_t>(rects.size());
+  for (std::size_t c = 0; c < out.fringes.size(); ++c) out.fringes[c] += stats.fringes[c];
   out.timings.classification_ms += stats.classify_ms;
   out.timings.morphology_ms += stats.morphology_ms;
   out.timings.regions_ms += stats.regions_ms;
@@ -167,6 +168,7 @@ void Segmenter::process(const SegmentationModel& model, const cv::Mat& image, Pi
     for (auto& r : out.regions) toImageCoordinates(r);
   }
   out.cap_hits = stats.cap_hits;
+  out.fringes = stats.fringes;
   out.grid_points = stats.grid_points;
   out.classified_pixels = stats.classified_pixels;
   out.timings.classification_ms = stats.classify_ms;

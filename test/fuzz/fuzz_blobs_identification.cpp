@@ -57,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     const sv::FrameIdentifier& identifier = flags & 4 ? ssl : two_tag;
-    identifier.identify(sv::fromBlobArray(msg), 1.0, 0, msg.global_search, msg.mosaic);
+    identifier.identify(sv::fromBlobArray(msg), 1.0, 0, msg.global_search);
   } catch (const std::exception&) {
   }
   return 0;

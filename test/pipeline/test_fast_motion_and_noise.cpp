@@ -350,7 +350,8 @@ TEST(PresetPipeline, FlickerNoise) {
   EXPECT_LE(s.identity_errors, 1);
   EXPECT_LT(s.robotPositionRmse(), 0.005);
   EXPECT_GE(s.ballDetectionRate(), 0.97);
-  // Issue 4's heading target: 1.55° before the Bayer quads' regions got their own team-tag
-  // axis weight (axis_weight_mosaic).
-  EXPECT_LT(s.robotHeadingRmse(), 1.0 * M_PI / 180);
+  // Issue 4's heading target is 1°: 1.55° when a Bayer quad's coverage was placed at its
+  // centre, 0.92° with a larger team-tag axis weight for it, 0.44° since each of its sensor
+  // sites weighs its own coverage at its own position (region_moments.cpp).
+  EXPECT_LT(s.robotHeadingRmse(), 0.7 * M_PI / 180);
 }

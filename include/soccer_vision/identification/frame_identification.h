@@ -27,12 +27,10 @@ class FrameIdentifier {
   const IdentificationParams& params() const { return params_; }
   const CameraModel& camera() const { return robots_.camera(); }
 
-  // `mosaic`: regions found on a Bayer mosaic's quads (see RobotIdentifier::identify).
   // `confirmed` (optional): set to the indices of the regions that belong to robots
   // reported with at least confirm_confidence.
   CameraFrameDetections identify(const std::vector<Region>& regions, double stamp = 0, int camera_id = 0,
-                                 bool global_search = true, bool mosaic = false,
-                                 std::vector<int>* confirmed = nullptr) const;
+                                 bool global_search = true, std::vector<int>* confirmed = nullptr) const;
 
  private:
   IdentificationParams params_;

@@ -41,12 +41,7 @@ struct RobotIdentificationParams {
   double axis_gate_deg = 20.0;    // deg: max team-tag minor axis vs fitted heading (mod 180°)
   double axis_sigma_deg = 4.0;    // deg: scoring scale of that difference
   double axis_weight = 0.25;      // share of the team-tag axis in the heading (0 = markers only)
-  // The share for regions of a Bayer mosaic's 2x2 quads: the small id markers' centroids
-  // there carry a pose-dependent bias (their colour comes from four sensor sites; 1.8° of
-  // heading RMS on still robots of flicker_noise, 2.0° on clean Bayer, 0.1° without Bayer),
-  // the large team tag's axis much less.
-  double axis_weight_mosaic = 0.6;
-  double min_elongation = 1.6;  // team region sqrt(eigenvalue ratio) needed to use its axis
+  double min_elongation = 1.6;    // team region sqrt(eigenvalue ratio) needed to use its axis
   // Observed / expected pixel area within [1/g, g]. Blurred and noisy markers are small: a
   // 40 mm disc moving 20 mm per exposure keeps only its fully covered core in the colour
   // class (0.17-0.4 of the expected area; the blend with the black top is darker than any
@@ -82,9 +77,8 @@ class RobotIdentifier {
   const PatternSet& patterns() const { return patterns_; }
   const CameraModel& camera() const { return camera_; }
 
-  // Regions in raw image pixel coordinates (SegmentationResult::regions); `mosaic`: found
-  // on a Bayer mosaic's quads (axis_weight_mosaic instead of axis_weight).
-  RobotIdentificationResult identify(const std::vector<Region>& regions, bool mosaic = false) const;
+  // Regions in raw image pixel coordinates (SegmentationResult::regions).
+  RobotIdentificationResult identify(const std::vector<Region>& regions) const;
 
  private:
   CameraModel camera_;

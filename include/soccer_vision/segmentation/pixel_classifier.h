@@ -53,6 +53,25 @@ struct LabelRow {
   const std::uint8_t *b, *g1, *g2, *r;
   int step;
 };
+// Where the four sensor sites of a Bayer quad lie, relative to its top-left pixel, in
+// LabelRow's order; all (0, 0) for bgr8/rgb8.
+struct QuadSites {
+  cv::Point b, g1, g2, r;
+};
+inline QuadSites quadSites(PixelLayout layout) {
+  switch (layout) {
+    case PixelLayout::BayerRggb:
+      return {{1, 1}, {1, 0}, {0, 1}, {0, 0}};
+    case PixelLayout::BayerBggr:
+      return {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    case PixelLayout::BayerGbrg:
+      return {{1, 0}, {0, 0}, {1, 1}, {0, 1}};
+    case PixelLayout::BayerGrbg:
+      return {{0, 1}, {0, 0}, {1, 1}, {1, 0}};
+    default:
+      return {};
+  }
+}
 // (Inline: it is called once per row of every rectangle classified.)
 inline LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
   if (!isBayer(layout)) {
@@ -60,18 +79,9 @@ inline LabelRow labelRow(const cv::Mat& image, PixelLayout layout, int y) {
     return layout == PixelLayout::Bgr ? LabelRow{p, p + 1, p + 1, p + 2, 3}
                                       : LabelRow{p + 2, p + 1, p + 1, p, 3};
   }
-  const std::uint8_t* top = image.ptr<std::uint8_t>(2 * y);
-  const std::uint8_t* bottom = image.ptr<std::uint8_t>(2 * y + 1);
-  switch (layout) {
-    case PixelLayout::BayerRggb:
-      return {bottom + 1, top + 1, bottom, top, 2};
-    case PixelLayout::BayerBggr:
-      return {top, top + 1, bottom, bottom + 1, 2};
-    case PixelLayout::BayerGbrg:
-      return {top + 1, top, bottom + 1, bottom, 2};
-    default:
-      return {bottom, top, bottom + 1, top + 1, 2};  // BayerGrbg
-  }
+  const std::uint8_t* rows[2] = {image.ptr<std::uint8_t>(2 * y), image.ptr<std::uint8_t>(2 * y + 1)};
+  const QuadSites s = quadSites(layout);
+  return {rows[s.b.y] + s.b.x, rows[s.g1.y] + s.g1.x, rows[s.g2.y] + s.g2.x, rows[s.r.y] + s.r.x, 2};
 }
 // Throws std::invalid_argument unless the image fits the layout (see FrameClassifier).
 void checkImageFitsLayout(const cv::Mat& image, PixelLayout layout);
@@ -155,6 +165,7 @@ class FrameClassifier {
   // colours of a row without colorAt's per-pixel checks. Throws std::invalid_argument for
   // a row outside the label image.
   LabelRow row(int y) const;
+  PixelLayout layout() const { return layout_; }
   // V (max channel) of a label pixel as looked up: sharpened (when enabled), then
   // adjusted by its block's gain and offset (ColorTable::adjustedV). For debugging/tests.
   int adaptedV(int x, int y) const;

@@ -62,6 +62,8 @@ struct SegmentationResult {
   bool global_search = true;
   std::vector<cv::Rect> windows;  // image pixels, as used (clipped to the image)
   std::array<std::uint32_t, kNumColorClasses> cap_hits{};
+  // Bayer colour fringes dropped per class (mosaic_fringes.h).
+  std::array<std::uint32_t, kNumColorClasses> fringes{};
   bool illumination_size_mismatch = false;  // reference made for another image size
   BlockOffsets offsets;                     // the illumination adjustment the frame was classified with
   std::uint32_t grid_points = 0;            // label pixels looked up by the grid scan
