@@ -241,8 +241,9 @@ TEST(OneFrameTable, MarkerInteriorsOfHeldOutFramesAreClassified) {
 // interiors 100 % (all kinds 99.78 %). These bounds keep what is reached.
 TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
   Accuracy total[2], total_opened;
-  for (const char* name : {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
-                           "rand_flicker_jpeg", "rand_bayer", "rand_ssl", "rand_wide_angle", "rand_bayer_ssl"}) {
+  for (const char* name :
+       {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
+        "rand_flicker_jpeg", "rand_bayer", "rand_ssl", "rand_wide_angle", "rand_bayer_ssl"}) {
     std::vector<Accuracy> opened;
     const std::vector<Accuracy> a =
         heldOutRandomised(preset(name), {bodyAlone(), ColorTableParams{}}, &opened);
@@ -287,8 +288,9 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
 // interior quads). The bounds keep what is reached.
 TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
   Accuracy total[2];
-  for (const char* name : {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
-                           "rand_flicker_jpeg", "rand_bayer", "rand_ssl", "rand_wide_angle", "rand_bayer_ssl"}) {
+  for (const char* name :
+       {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
+        "rand_flicker_jpeg", "rand_bayer", "rand_ssl", "rand_wide_angle", "rand_bayer_ssl"}) {
     const std::vector<Accuracy> a =
         heldOutRandomised(preset(name), {ColorTableParams{}, Variant(ColorTableParams{}, true)});
     std::printf(

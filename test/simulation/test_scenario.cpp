@@ -52,10 +52,9 @@ TEST(Scenario, EveryPresetLoadsAndItsPatternExists) {
 }
 
 TEST(Scenario, EveryHeldOutKindLoadsWithItsAppearance) {
-  const std::vector<std::string> kinds = {"rand_even_static", "rand_uneven_lamps", "rand_fast",
-                                          "rand_packed",      "rand_people",       "rand_flicker_jpeg",
-                                          "rand_bayer",       "rand_ssl",          "rand_wide_angle",
-                                          "rand_bayer_ssl"};
+  const std::vector<std::string> kinds = {
+      "rand_even_static",  "rand_uneven_lamps", "rand_fast", "rand_packed",     "rand_people",
+      "rand_flicker_jpeg", "rand_bayer",        "rand_ssl",  "rand_wide_angle", "rand_bayer_ssl"};
   for (const auto& name : kinds) {
     SCOPED_TRACE(name);
     const auto s = loadScenario(kScenarios + name + ".yaml");
