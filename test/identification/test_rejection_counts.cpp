@@ -156,3 +156,21 @@ TEST(RejectionCounts, BallsOffTheCarpetOfTheWrongSizeOrBeyondTheLimitAreCounted)
   EXPECT_EQ(d.rejections[RejectionCause::BallOffField], 1) << d.rejections.summary();
   EXPECT_EQ(d.rejections.total(), 3);
 }
+
+// The wall at the carpet's edge keeps a ball's centre 21.5 mm inside it: a ball there is
+// one, an orange shoe 5 cm beyond the carpet is not (BallDetectionParams::field_margin).
+TEST(RejectionCounts, ABallAtTheWallIsKeptAnOrangeThingJustBeyondTheCarpetIsNot) {
+  const PatternSet p = PatternSet::twoTag();
+  const FrameIdentifier identify(kCamera, p, kField);
+  const double edge = kField.halfLength() + kField.boundary;  // the carpet's end
+  const Eigen::Vector3d at_wall(-(edge - 0.0215), 1.0, 0.0215), beyond(-(edge + 0.05), -1.0, 0.0215);
+  for (const auto& where : {at_wall, beyond}) {
+    const auto px = kCamera.project(where);
+    ASSERT_TRUE(px && kCamera.inImage(*px, 6));
+  }
+  const CameraFrameDetections d =
+      identify.identify({ballRegion(kCamera, at_wall), ballRegion(kCamera, beyond)});
+  ASSERT_EQ(d.balls.size(), 1u);
+  EXPECT_NEAR(d.balls[0].x, at_wall.x(), 0.005);
+  EXPECT_EQ(d.rejections[RejectionCause::BallOffField], 1) << d.rejections.summary();
+}
