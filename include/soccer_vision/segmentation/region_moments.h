@@ -41,9 +41,10 @@ struct CoverageScratch {
 // region pixels for tiny regions), bg the mean colour of a 2-pixel ring around the region,
 // then once more weighted by 1 - α, so that the partly covered ring pixels do not pull it
 // towards c. A pixel whose colour lies far from the line between bg and c (another
-// marker's, within the ring) counts in neither. On Bayer quads each of a quad's four sensor sites gives the
-// coverage of its own channel at its own position (region_moments.cpp). Returns false (r's moments untouched)
-// when the colours give no usable contrast: binary moments then.
+// marker's, within the ring) counts in neither. On Bayer quads each of a quad's four
+// sensor sites gives the coverage of its own channel at its own position, and only the
+// ring's quads touching the region count (region_moments.cpp). Returns false (r's moments
+// untouched) when the colours give no usable contrast: binary moments then.
 bool coverageMoments(const FrameClassifier& frame, const PixelRun* begin, const PixelRun* end,
                      cv::Point origin, const cv::Rect& image, CoverageScratch& scratch, Region& r);
 
