@@ -19,11 +19,19 @@ constexpr int kWordBits = 64;
 // with their neighbours' within kRing, zero beyond the bbox's), bit x + kRing of a row for
 // x in [-kRing, width + kRing), `words` words a row.
 struct BitRows {
-  int words, rows;
+  int width, words, rows;
   explicit BitRows(const cv::Rect& bbox)
-      : words((bbox.width + 2 * kRing + kWordBits - 1) / kWordBits), rows(bbox.height + 4 * kRing) {}
+      : width(bbox.width),
+        words((bbox.width + 2 * kRing + kWordBits - 1) / kWordBits),
+        rows(bbox.height + 4 * kRing) {}
   std::size_t size() const { return static_cast<std::size_t>(words) * rows; }
   std::size_t at(int y) const { return static_cast<std::size_t>(y + 2 * kRing) * words; }
+  // Bit (x, y) of `bits`; false outside the rows and columns held.
+  bool test(const std::uint64_t* bits, int x, int y) const {
+    const int bit = x + kRing;
+    if (bit < 0 || x >= width + kRing || y < -2 * kRing || y >= rows - 2 * kRing) return false;
+    return (bits[at(y) + static_cast<std::size_t>(bit / kWordBits)] >> (bit % kWordBits) & 1) != 0;
+  }
 };
 
 // Word i of `row` moved by k bits towards higher x (k < 0: lower x), zeros shifted in.
@@ -126,15 +134,10 @@ void addSiteCoverages(const FrameClassifier& frame, const cv::Rect& bbox, const 
   // background. They would add what lies beyond: the carpet, a darker green, around the
   // SSL pattern's green dots at the robot's rim (0.44 px median centroid error with them).
   const BitRows bits(bbox);
-  auto isMember = [&](int x, int y) {
-    const int bit = x + kRing;
-    if (bit < 0 || x >= bbox.width + kRing || y < -2 * kRing || y >= bbox.height + 2 * kRing) return false;
-    return (member[bits.at(y) + bit / kWordBits] >> (bit % kWordBits) & 1) != 0;
-  };
-  auto touchesRegion = [&](int x, int y) {
+  auto touchesRegion = [&](int x, int y) {  // itself or one of its 8 neighbours a member
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
-        if (isMember(x + dx, y + dy)) return true;
+        if (bits.test(member, x + dx, y + dy)) return true;
       }
     }
     return false;
@@ -158,7 +161,7 @@ void addSiteCoverages(const FrameClassifier& frame, const cv::Rect& bbox, const 
     const LabelRow row = frame.row(bbox.y + segment.y);
     for (int j = 0; j < segment.length; ++j, ++quad_alphas) {
       if (*quad_alphas == kForeign) continue;  // the quad's colour is another marker's
-      if (!isMember(segment.x + j, segment.y) && !touchesRegion(segment.x + j, segment.y)) continue;
+      if (!touchesRegion(segment.x + j, segment.y)) continue;
       const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(bbox.x + segment.x + j) * row.step;
       const std::array<int, 4> values = {row.b[at], row.g1[at], row.g2[at], row.r[at]};
       for (int i = 0; i < 4; ++i) {
