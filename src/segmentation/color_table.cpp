@@ -133,19 +133,29 @@ void appendUnclippedVariants(const SamplePixel& sample, std::vector<Hsv>& hsv, s
 // is brighter (ColorTableParams::clipped_variants). Under a block `gain` times the mean
 // light the sensor sees its normalised colour times the gain, saturated at 255, and
 // normalisation divides V by the gain again: the V of the sample's own light, but the
-// clipped channel stopped growing, so hue and saturation moved. Only at the brightest
-// light, the far end of that path (the Gaussian spans it), and only while one channel
-// clips: two or three clipped are a colour towards white that tells classes apart no
-// more. Variants at every gain, or with any channels clipped, widened the classes of the
-// real 2008 frame (its brightest block 1.9) until four of its five robots were lost.
-void appendClippedVariant(const SamplePixel& sample, double gain, std::vector<Hsv>& hsv,
+// clipped channel stopped growing, so hue and saturation moved. Only at the far end of the
+// stretch of that path where one channel clips (the Gaussian spans it): the brightest
+// light, or just before a second channel clips if that comes first — two or three clipped
+// are a colour towards white that tells classes apart no more. A pink sampled with its red
+// already clipped read (169, 99, 255), 333°, a robot's under a brighter lamp (230, 125,
+// 255), 311°, next to purple; its blue clips at 1.47 times the sample's light, below the
+// brightest block's: the variant there was dropped, and purple took the dot (held-out
+// seed 9037, ColorTable.APinkClippedInRed... in test_color_table.cpp). Variants at every
+// gain, or with two channels clipped, widened the classes of the real 2008 frame (its
+// brightest block 1.9) until four of its five robots were lost.
+void appendClippedVariant(const SamplePixel& sample, double brightest, std::vector<Hsv>& hsv,
                           std::vector<Lab>& lab) {
   const cv::Vec3b p = normalisedColour(sample);
+  const double top = std::max({p[0], p[1], p[2]});
+  const double mid = std::max({std::min(p[0], p[1]), std::min(p[1], p[2]), std::min(p[0], p[2])});
+  // The light at which the second channel reaches the clip level.
+  const double second_clips = mid > 0 ? (kClipLevel - 1) / mid : HUGE_VAL;
+  const double gain = std::min(brightest, second_clips);
+  if (top * gain <= 255.0) return;  // nothing clips up to there
   const cv::Vec3b q(cv::saturate_cast<std::uint8_t>(p[0] * gain),
                     cv::saturate_cast<std::uint8_t>(p[1] * gain),
                     cv::saturate_cast<std::uint8_t>(p[2] * gain));
-  if ((q[0] == 255) + (q[1] == 255) + (q[2] == 255) != 1 || std::max({p[0], p[1], p[2]}) * gain <= 255.0)
-    return;
+  if ((q[0] == 255) + (q[1] == 255) + (q[2] == 255) != 1) return;
   const int v = static_cast<int>(std::lround(255.0 / gain));
   Hsv h = bgrToHsv(q[0], q[1], q[2]);
   h.v = v;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -298,6 +299,88 @@ TEST(ColorTable, AMarkerSampledInADimCornerKeepsItsColourClippedUnderTheBrightes
                                       return ColorTable::buildFromSamplePixels(samples, off, {}, 1.8);
                                     }()}) {
     EXPECT_NE(without.classify(239, 140, 255, 0, lamp_gain), ColorClass::Pink);
+  }
+}
+
+// Held-out seed 9037 of rand_uneven_lamps (spent): the calibration frame's pink, purple,
+// blue and red samples as filed (B, G, R, V after normalisation). Eight of the pink ones
+// read (157..185, 83..112, 255), red clipped, in a block no brighter than the mean (V 255),
+// twelve (255, ~140, 255) under a lamp 1.42 times the mean; the brightest block was 1.67.
+// At that light the once-clipped ones clip in blue too, so no variant stood for them, and a
+// robot whose pink dot stood under a lamp between read (230, 125, 255), hue 311°, which
+// purple's Gaussian took (a robot lost in 81 of 240 frames). The variant sits where the
+// second channel is about to clip.
+TEST(ColorTable, APinkClippedInRedStaysPinkUnderBrighterLightUntilItsBlueClips) {
+  struct Filed {
+    int b, g, r, v;
+  };
+  const std::map<ColorClass, std::vector<Filed>> filed{
+      {ColorClass::Pink,
+       {{255, 130, 255, 179}, {255, 134, 255, 179}, {255, 134, 255, 179}, {255, 146, 255, 179},
+        {255, 148, 255, 179}, {255, 142, 255, 179}, {255, 148, 255, 179}, {255, 135, 255, 179},
+        {254, 152, 255, 179}, {255, 152, 255, 179}, {255, 138, 255, 179}, {255, 143, 255, 179},
+        {157, 97, 255, 255},  {183, 93, 255, 255},  {168, 104, 255, 255}, {185, 112, 255, 255},
+        {178, 112, 255, 255}, {169, 83, 255, 255},  {155, 97, 255, 255},  {173, 96, 255, 255}}},
+      {ColorClass::Purple,
+       {{239, 74, 223, 174},
+        {244, 62, 221, 177},
+        {253, 70, 217, 184},
+        {229, 63, 197, 166},
+        {231, 78, 225, 168},
+        {228, 70, 228, 166},
+        {221, 65, 200, 161},
+        {246, 66, 203, 179},
+        {234, 66, 229, 170},
+        {232, 74, 221, 169},
+        {222, 70, 228, 166}}},
+      {ColorClass::Blue, {{255, 135, 52, 169}, {255, 125, 47, 169}, {255, 136, 61, 169}, {255, 145, 61, 169},
+                          {255, 120, 55, 169}, {255, 134, 53, 169}, {255, 143, 53, 169}, {255, 130, 56, 169},
+                          {255, 135, 47, 169}, {255, 139, 50, 169}, {255, 124, 47, 169}, {255, 132, 58, 169},
+                          {255, 128, 57, 169}, {255, 135, 55, 169}, {255, 133, 56, 169}, {255, 129, 51, 169},
+                          {255, 131, 53, 169}, {255, 139, 61, 169}, {255, 133, 54, 169}, {255, 129, 54, 169},
+                          {255, 150, 54, 169}, {255, 143, 56, 169}, {255, 146, 57, 169}, {255, 118, 51, 169},
+                          {255, 132, 53, 169}, {255, 123, 58, 169}, {255, 143, 63, 169}, {255, 122, 58, 169},
+                          {255, 136, 56, 169}, {207, 99, 36, 205},  {226, 119, 48, 223}, {215, 109, 43, 212},
+                          {228, 115, 38, 225}, {208, 112, 48, 206}, {209, 110, 42, 207}, {204, 121, 45, 202},
+                          {213, 113, 30, 211}, {210, 114, 42, 208}, {201, 114, 50, 199}, {208, 118, 45, 206},
+                          {219, 106, 44, 216}, {214, 111, 40, 211}}},
+      {ColorClass::Red,
+       {{54, 56, 255, 215},
+        {55, 56, 255, 215},
+        {49, 48, 255, 215},
+        {51, 41, 255, 215},
+        {49, 66, 255, 215},
+        {44, 49, 255, 215},
+        {50, 55, 255, 215},
+        {44, 54, 255, 215},
+        {55, 60, 255, 215},
+        {44, 60, 255, 215}}}};
+  ClassSamplePixels samples;
+  for (const auto& [color, pixels] : filed) {
+    for (const Filed& f : pixels)
+      samples[color].push_back({cv::Vec3b(f.b, f.g, f.r), static_cast<std::uint8_t>(f.v)});
+  }
+  for (int i = 0; i < 12; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
+    samples[ColorClass::RobotTop].push_back({cv::Vec3b(37 + d, 50, 58 - d), 40});
+  }
+  const auto gain = [](double light) { return static_cast<int>(std::lround(ColorTable::kUnitGain / light)); };
+  ColorTableParams off;
+  off.clipped_variants = false;
+  const ColorTable table = ColorTable::buildFromSamplePixels(samples, {}, {}, 1.673);
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off, {}, 1.673);
+  for (const double light : {1.35, 1.45, 1.55, 1.65}) {  // lamps between the sample's and the brightest
+    EXPECT_EQ(table.classify(230, 125, 255, 0, gain(light)), ColorClass::Pink) << light;
+    EXPECT_EQ(table.classify(240, 125, 255, 0, gain(light)), ColorClass::Pink) << light;
+    EXPECT_EQ(without.classify(230, 125, 255, 0, gain(light)), ColorClass::Purple) << light;
+  }
+  // Every sample still classifies as its own class, under its own block's gain.
+  for (const auto& [color, pixels] : filed) {
+    for (const Filed& f : pixels) {
+      const int g = static_cast<int>(std::lround(ColorTable::kUnitGain * f.v / std::max({f.b, f.g, f.r})));
+      EXPECT_EQ(table.classify(f.b, f.g, f.r, 0, g), color) << f.b << " " << f.g << " " << f.r << " " << f.v;
+    }
   }
 }
 

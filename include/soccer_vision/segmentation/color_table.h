@@ -140,8 +140,10 @@ struct ColorTableParams {
   // mean: buildFromSamplePixels' `brightest_light`), clipped: a channel saturated at 255
   // and V normalised back. A marker sampled in a dim corner shows another hue under the
   // brightest lamp (a pink's red clips and it reads bluer, next to purple). Only where
-  // exactly one channel clips. docs/segmentation.md: measured on the spent held-out seeds
-  // 9013 and 9014, tuning seed 40 and the real 2008 frame. false = off.
+  // exactly one channel clips: where a second one would clip below the brightest light,
+  // the variant is the colour just before it does. docs/segmentation.md: measured on the
+  // spent held-out seeds 9013, 9014 and 9037, tuning seed 40 and the real 2008 frame.
+  // false = off.
   bool clipped_variants = true;
   // With generalisation: the same path on, where a second channel clips too (a yellow's red
   // and green: hue 60°, its saturation falling with the light). Such colours claim their
