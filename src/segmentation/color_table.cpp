@@ -106,14 +106,24 @@ cv::Vec3b normalisedColour(const SamplePixel& sample) {
 // `over` (at least kMinUnclip, at most kMaxUnclip) times the ceiling, filed under the
 // sample's V raised by as much (the V axis ends at 255, as the run-time V does). They
 // widen the class's body and Gaussian along the clipping direction.
+// A sample filed under V 255 stood in a block no brighter than the mean (normalisation
+// raised it to the ceiling), so `over` says nothing of it. Its clipped channel is bounded
+// by the drift the table is built for instead: where the lamp that lit it dims by 30 %,
+// the print is seen unclipped if that channel was up to 1.3 times the ceiling. On
+// held-out seed 9037 (spent) a yellow tag sampled so, (45, 222, 255), read (36, 170, 245),
+// 38°, under a dimmer lamp, and orange (33°) took part of it (docs/segmentation.md). 1.5
+// or 1.73 (√3, the 3:1 light across the field) widened pink's Gaussian until a pink under a
+// brighter lamp read purple again (test_color_table.cpp).
 constexpr int kClipLevel = 250;
-constexpr double kMinUnclip = 1.1, kMaxUnclip = 2.0, kUnclipStep = 0.1;
+constexpr double kMinUnclip = 1.1, kMaxUnclip = 2.0, kUnclipStep = 0.1, kCappedUnclip = 1.3;
 
 void appendUnclippedVariants(const SamplePixel& sample, std::vector<Hsv>& hsv, std::vector<Lab>& lab) {
   const cv::Vec3b& p = sample.bgr;
   const int raw_v = std::max({p[0], p[1], p[2]});
   if (raw_v < kClipLevel || sample.v == 0) return;
-  const double over = std::clamp(static_cast<double>(raw_v) / sample.v, kMinUnclip, kMaxUnclip);
+  const double over = sample.v >= 255
+                          ? kCappedUnclip
+                          : std::clamp(static_cast<double>(raw_v) / sample.v, kMinUnclip, kMaxUnclip);
   for (double u = 1.0 + kUnclipStep; u <= over + 1e-9; u += kUnclipStep) {
     double c[3];
     for (int k = 0; k < 3; ++k) c[k] = p[k] >= kClipLevel ? p[k] * u : p[k];
