@@ -375,7 +375,9 @@ TEST(ColorTable, APinkClippedInRedStaysPinkUnderBrighterLightUntilItsBlueClips) 
     EXPECT_EQ(table.classify(240, 125, 255, 0, gain(light)), ColorClass::Pink) << light;
     // Without the variants purple takes it from 1.5 on (the unclipped variants of the
     // samples, filed at the ceiling, reach that far).
-    if (light > 1.5) EXPECT_EQ(without.classify(230, 125, 255, 0, gain(light)), ColorClass::Purple) << light;
+    if (light > 1.5) {
+      EXPECT_EQ(without.classify(230, 125, 255, 0, gain(light)), ColorClass::Purple) << light;
+    }
   }
   // Every sample still classifies as its own class, under its own block's gain.
   for (const auto& [color, pixels] : filed) {
