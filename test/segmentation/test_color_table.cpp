@@ -302,6 +302,48 @@ TEST(ColorTable, AMarkerSampledInADimCornerKeepsItsColourClippedUnderTheBrightes
   }
 }
 
+namespace {
+
+// Samples of one calibration frame as it filed them: B, G, R and V after normalisation.
+struct FiledSample {
+  int b, g, r, v;
+};
+using FiledSamples = std::map<ColorClass, std::vector<FiledSample>>;
+
+// The filed samples with a carpet and a robot top beside them.
+ClassSamplePixels withCarpetAndTop(const FiledSamples& filed) {
+  ClassSamplePixels samples;
+  for (const auto& [color, pixels] : filed) {
+    for (const FiledSample& f : pixels)
+      samples[color].push_back({cv::Vec3b(f.b, f.g, f.r), static_cast<std::uint8_t>(f.v)});
+  }
+  for (int i = 0; i < 12; ++i) {
+    const int d = i % 5 - 2;
+    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
+    samples[ColorClass::RobotTop].push_back({cv::Vec3b(37 + d, 50, 58 - d), 40});
+  }
+  return samples;
+}
+
+// Every sample still classifies as its own class, under its own block's gain.
+void expectEachSampleIsItsOwnClass(const ColorTable& table, const FiledSamples& filed) {
+  for (const auto& [color, pixels] : filed) {
+    for (const FiledSample& f : pixels) {
+      const int g = static_cast<int>(std::lround(ColorTable::kUnitGain * f.v / std::max({f.b, f.g, f.r})));
+      EXPECT_EQ(table.classify(f.b, f.g, f.r, 0, g), color) << f.b << " " << f.g << " " << f.r << " " << f.v;
+    }
+  }
+}
+
+int gainUnder(double light) { return static_cast<int>(std::lround(ColorTable::kUnitGain / light)); }
+
+// Held-out seed 9037's red samples as filed (both tests below).
+const std::vector<FiledSample> k9037Red{
+    {54, 56, 255, 215}, {55, 56, 255, 215}, {49, 48, 255, 215}, {51, 41, 255, 215}, {49, 66, 255, 215},
+    {44, 49, 255, 215}, {50, 55, 255, 215}, {44, 54, 255, 215}, {55, 60, 255, 215}, {44, 60, 255, 215}};
+
+}  // namespace
+
 // Held-out seed 9037 of rand_uneven_lamps (spent): the calibration frame's pink, purple,
 // blue and red samples as filed (B, G, R, V after normalisation). Eight of the pink ones
 // read (157..185, 83..112, 255), red clipped, in a block no brighter than the mean (V 255),
@@ -311,10 +353,7 @@ TEST(ColorTable, AMarkerSampledInADimCornerKeepsItsColourClippedUnderTheBrightes
 // purple's Gaussian took (a robot lost in 81 of 240 frames). The variant sits where the
 // second channel is about to clip.
 TEST(ColorTable, APinkClippedInRedStaysPinkUnderBrighterLightUntilItsBlueClips) {
-  struct Filed {
-    int b, g, r, v;
-  };
-  const std::map<ColorClass, std::vector<Filed>> filed{
+  const FiledSamples filed{
       {ColorClass::Pink,
        {{255, 130, 255, 179}, {255, 134, 255, 179}, {255, 134, 255, 179}, {255, 146, 255, 179},
         {255, 148, 255, 179}, {255, 142, 255, 179}, {255, 148, 255, 179}, {255, 135, 255, 179},
@@ -344,48 +383,22 @@ TEST(ColorTable, APinkClippedInRedStaysPinkUnderBrighterLightUntilItsBlueClips) 
                           {228, 115, 38, 225}, {208, 112, 48, 206}, {209, 110, 42, 207}, {204, 121, 45, 202},
                           {213, 113, 30, 211}, {210, 114, 42, 208}, {201, 114, 50, 199}, {208, 118, 45, 206},
                           {219, 106, 44, 216}, {214, 111, 40, 211}}},
-      {ColorClass::Red,
-       {{54, 56, 255, 215},
-        {55, 56, 255, 215},
-        {49, 48, 255, 215},
-        {51, 41, 255, 215},
-        {49, 66, 255, 215},
-        {44, 49, 255, 215},
-        {50, 55, 255, 215},
-        {44, 54, 255, 215},
-        {55, 60, 255, 215},
-        {44, 60, 255, 215}}}};
-  ClassSamplePixels samples;
-  for (const auto& [color, pixels] : filed) {
-    for (const Filed& f : pixels)
-      samples[color].push_back({cv::Vec3b(f.b, f.g, f.r), static_cast<std::uint8_t>(f.v)});
-  }
-  for (int i = 0; i < 12; ++i) {
-    const int d = i % 5 - 2;
-    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
-    samples[ColorClass::RobotTop].push_back({cv::Vec3b(37 + d, 50, 58 - d), 40});
-  }
-  const auto gain = [](double light) { return static_cast<int>(std::lround(ColorTable::kUnitGain / light)); };
+      {ColorClass::Red, k9037Red}};
+  const ClassSamplePixels samples = withCarpetAndTop(filed);
   ColorTableParams off;
   off.clipped_variants = false;
   const ColorTable table = ColorTable::buildFromSamplePixels(samples, {}, {}, 1.673);
   const ColorTable without = ColorTable::buildFromSamplePixels(samples, off, {}, 1.673);
   for (const double light : {1.35, 1.45, 1.55, 1.65}) {  // lamps between the sample's and the brightest
-    EXPECT_EQ(table.classify(230, 125, 255, 0, gain(light)), ColorClass::Pink) << light;
-    EXPECT_EQ(table.classify(240, 125, 255, 0, gain(light)), ColorClass::Pink) << light;
+    EXPECT_EQ(table.classify(230, 125, 255, 0, gainUnder(light)), ColorClass::Pink) << light;
+    EXPECT_EQ(table.classify(240, 125, 255, 0, gainUnder(light)), ColorClass::Pink) << light;
     // Without the variants purple takes it from 1.5 on (the unclipped variants of the
     // samples, filed at the ceiling, reach that far).
     if (light > 1.5) {
-      EXPECT_EQ(without.classify(230, 125, 255, 0, gain(light)), ColorClass::Purple) << light;
+      EXPECT_EQ(without.classify(230, 125, 255, 0, gainUnder(light)), ColorClass::Purple) << light;
     }
   }
-  // Every sample still classifies as its own class, under its own block's gain.
-  for (const auto& [color, pixels] : filed) {
-    for (const Filed& f : pixels) {
-      const int g = static_cast<int>(std::lround(ColorTable::kUnitGain * f.v / std::max({f.b, f.g, f.r})));
-      EXPECT_EQ(table.classify(f.b, f.g, f.r, 0, g), color) << f.b << " " << f.g << " " << f.r << " " << f.v;
-    }
-  }
+  expectEachSampleIsItsOwnClass(table, filed);
 }
 
 // The same seed's yellow: its valid samples read (35..53, 208..243, 255), red clipped, in a
@@ -393,12 +406,9 @@ TEST(ColorTable, APinkClippedInRedStaysPinkUnderBrighterLightUntilItsBlueClips) 
 // Another robot's yellow tag under a dimmer lamp read (36, 170, 245), hue 38°, unclipped,
 // where the samples read 47° and orange's (also clipped) 33°: orange took part of it and the
 // tag was too small in 24 of 240 frames. A sample filed at the ceiling stands for its clipped
-// channel up to kCappedUnclip (√3) times the ceiling.
+// channel up to kCappedUnclip (1.3) times the ceiling.
 TEST(ColorTable, AYellowSampledClippedInADimBlockStaysYellowUnclippedUnderADimmerLamp) {
-  struct Filed {
-    int b, g, r, v;
-  };
-  const std::map<ColorClass, std::vector<Filed>> filed{
+  const FiledSamples filed{
       {ColorClass::Yellow,
        {{40, 217, 255, 255}, {49, 213, 255, 255}, {41, 222, 255, 255}, {48, 217, 255, 255},
         {53, 213, 255, 255}, {48, 208, 255, 255}, {48, 233, 255, 255}, {45, 219, 255, 255},
@@ -417,43 +427,17 @@ TEST(ColorTable, AYellowSampledClippedInADimBlockStaysYellowUnclippedUnderADimme
         {13, 147, 255, 232},
         {12, 154, 255, 232},
         {11, 154, 255, 232}}},
-      {ColorClass::Red,
-       {{54, 56, 255, 215},
-        {55, 56, 255, 215},
-        {49, 48, 255, 215},
-        {51, 41, 255, 215},
-        {49, 66, 255, 215},
-        {44, 49, 255, 215},
-        {50, 55, 255, 215},
-        {44, 54, 255, 215},
-        {55, 60, 255, 215},
-        {44, 60, 255, 215}}}};
-  ClassSamplePixels samples;
-  for (const auto& [color, pixels] : filed) {
-    for (const Filed& f : pixels)
-      samples[color].push_back({cv::Vec3b(f.b, f.g, f.r), static_cast<std::uint8_t>(f.v)});
-  }
-  for (int i = 0; i < 12; ++i) {
-    const int d = i % 5 - 2;
-    samples[ColorClass::Carpet].push_back({cv::Vec3b(50 + d, 125 - d, 55 + d), 125});
-    samples[ColorClass::RobotTop].push_back({cv::Vec3b(37 + d, 50, 58 - d), 40});
-  }
-  const auto gain = [](double light) { return static_cast<int>(std::lround(ColorTable::kUnitGain / light)); };
+      {ColorClass::Red, k9037Red}};
+  const ClassSamplePixels samples = withCarpetAndTop(filed);
   const ColorTable table = ColorTable::buildFromSamplePixels(samples, {}, {}, 1.673);
   for (const double light : {0.6, 0.8, 1.0}) {  // dimmer blocks than the sample's, and the mean
-    EXPECT_EQ(table.classify(36, 170, 245, 0, gain(light)), ColorClass::Yellow) << light;
+    EXPECT_EQ(table.classify(36, 170, 245, 0, gainUnder(light)), ColorClass::Yellow) << light;
     // The ball unclipped under the same blocks stays orange (27°, 32°, 24°).
-    EXPECT_EQ(table.classify(10, 115, 240, 0, gain(light)), ColorClass::Orange) << light;
-    EXPECT_EQ(table.classify(12, 140, 250, 0, gain(light)), ColorClass::Orange) << light;
-    EXPECT_EQ(table.classify(8, 100, 230, 0, gain(light)), ColorClass::Orange) << light;
+    EXPECT_EQ(table.classify(10, 115, 240, 0, gainUnder(light)), ColorClass::Orange) << light;
+    EXPECT_EQ(table.classify(12, 140, 250, 0, gainUnder(light)), ColorClass::Orange) << light;
+    EXPECT_EQ(table.classify(8, 100, 230, 0, gainUnder(light)), ColorClass::Orange) << light;
   }
-  // Every sample still classifies as its own class, under its own block's gain.
-  for (const auto& [color, pixels] : filed) {
-    for (const Filed& f : pixels) {
-      const int g = static_cast<int>(std::lround(ColorTable::kUnitGain * f.v / std::max({f.b, f.g, f.r})));
-      EXPECT_EQ(table.classify(f.b, f.g, f.r, 0, g), color) << f.b << " " << f.g << " " << f.r << " " << f.v;
-    }
-  }
+  expectEachSampleIsItsOwnClass(table, filed);
 }
 
 // Held-out seed 9019 of rand_uneven_lamps: two of the three yellow markers of the
