@@ -52,6 +52,7 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
   ClassSamplePixels pixels;
   double brightest_light = 1.0;  // over the mean light, in any image (ColorTableParams::clipped_variants)
   std::vector<SamplePixel> background;  // only for the background model, when it is on
+  std::uint32_t marker = 0;             // the polygons, numbered over all images
   const bool background_model = params.generalize_sigmas > 0 && params.background_share > 0;
   for (const auto& image : images) {
     // Each image's samples under that image's own light: with several images taken at
@@ -78,11 +79,15 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
     // to it) are not background; everything else is, sampled or not.
     cv::Mat1b near_markers;
     if (background_model) near_markers = cv::Mat1b::zeros(image.bgr.size());
-    for (const auto& [cls, positions] : samplePixelPositions(image.bgr.size(), image.samples)) {
+    for (const auto& [cls, per_polygon] : samplePixelPositionsPerPolygon(image.bgr.size(), image.samples)) {
       auto& all = pixels[cls];
-      for (const cv::Point& p : positions) {
-        all.push_back(filed(p.x, p.y));
-        if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
+      for (const auto& positions : per_polygon) {
+        ++marker;
+        for (const cv::Point& p : positions) {
+          all.push_back(filed(p.x, p.y));
+          all.back().marker = marker;
+          if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
+        }
       }
     }
     if (!background_model || !image.unsampled_is_background) continue;

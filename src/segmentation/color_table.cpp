@@ -367,6 +367,84 @@ SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixe
   return centre;
 }
 
+// Another print of a robot marker colour (ColorTableParams::other_prints): the samples of a
+// polygon (SamplePixel::marker) of which fewer than half of those that show their hue are
+// valid, selected around their own centre as the class's are around its. At least
+// kMinHueSamples of them must show their hue and as many must be valid: a few pixels of a
+// marker's rim are no print. Per print, a mask over `pixels`.
+std::vector<std::vector<bool>> otherPrints(const std::vector<SamplePixel>& pixels,
+                                           const std::vector<Lab>& lab, const std::vector<Hsv>& hsv,
+                                           const ClassThresholds& t, const std::vector<bool>& valid) {
+  std::map<std::uint32_t, std::vector<std::size_t>> by_marker;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (pixels[i].marker != 0 && !clippedTwice(pixels[i].bgr)) by_marker[pixels[i].marker].push_back(i);
+  }
+  std::vector<std::vector<bool>> prints;
+  for (const auto& [marker, members] : by_marker) {
+    const auto valid_members =
+        std::count_if(members.begin(), members.end(), [&](std::size_t i) { return valid[i]; });
+    if (members.size() < kMinHueSamples || 2 * static_cast<std::size_t>(valid_members) >= members.size())
+      continue;
+    std::vector<Lab> own_lab;
+    std::vector<Hsv> own_hsv;
+    for (const std::size_t i : members) {
+      own_lab.push_back(lab[i]);
+      own_hsv.push_back(hsv[i]);
+    }
+    const SampleCentre own = validityCentre(own_lab, own_hsv, t, circularMeanDegrees(own_hsv));
+    if (static_cast<std::size_t>(std::count(own.valid.begin(), own.valid.end(), true)) < kMinHueSamples)
+      continue;
+    std::vector<bool> mask(pixels.size(), false);
+    for (std::size_t k = 0; k < members.size(); ++k) mask[members[k]] = own.valid[k];
+    prints.push_back(std::move(mask));
+  }
+  return prints;
+}
+
+// The colours one print of a class stands for: its valid samples (`valid`) and their
+// variants (unclipped; for a robot marker class with generalisation also under other light
+// and clipped under the brightest block) in `hsv` and `lab`, and in `body_only` the colours
+// that claim their own cells without shaping the Gaussian (the path clipped twice).
+struct PrintColours {
+  std::vector<Hsv> hsv;
+  std::vector<Lab> lab;
+  std::vector<Hsv> body_only;
+};
+
+PrintColours printColours(const std::vector<SamplePixel>& pixels, const std::vector<Hsv>& hsv,
+                          const std::vector<Lab>& lab, const std::vector<bool>& valid, bool marker,
+                          const ColorTableParams& params, double brightest_light) {
+  PrintColours out;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (valid[i]) {
+      out.hsv.push_back(hsv[i]);
+      out.lab.push_back(lab[i]);
+    }
+  }
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    if (valid[i]) appendUnclippedVariants(pixels[i], out.hsv, out.lab);
+  }
+  const bool generalize = params.generalize_sigmas > 0;
+  if (generalize && params.brightness_spread > 0 && marker) {
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      if (valid[i]) appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, out.hsv, out.lab);
+    }
+  }
+  if (generalize && params.clipped_variants && brightest_light > 1 && marker) {
+    // Into the class's Gaussian, not as a part of its own: such parts outranked
+    // neighbouring classes (JPEG'd markers of another id on held-out seed 9014).
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      if (valid[i]) appendClippedVariant(pixels[i], brightest_light, out.hsv, out.lab);
+    }
+  }
+  if (generalize && params.clipped_twice_path && brightest_light > 1 && marker) {
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      if (valid[i]) appendClippedTwicePath(pixels[i], brightest_light, out.body_only);
+    }
+  }
+  return out;
+}
+
 // Means and variances of the valid pixels, variances floored at the cell's quantisation
 // variance so that a class whose samples share one value still has a proper Gaussian.
 void fitGaussian(const std::vector<Hsv>& valid, const ColorTableParams& params, ClassStatistics& st) {
@@ -708,16 +786,17 @@ ClassStatistics readClassStatistics(ByteReader& r) {
 
 }  // namespace
 
-std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
-                                                                  const ColorSamples& samples) {
+std::map<ColorClass, std::vector<std::vector<cv::Point>>> samplePixelPositionsPerPolygon(
+    cv::Size image_size, const ColorSamples& samples) {
   checkColorSamples(samples);  // NaN/huge vertices would overflow the int casts below
-  std::map<ColorClass, std::vector<cv::Point>> out;
+  std::map<ColorClass, std::vector<std::vector<cv::Point>>> out;
   cv::Mat1b taken(image_size);
   std::vector<double> crossings;
   for (const auto& [color, polygons] : samples) {
     taken.setTo(0);
-    auto& pixels = out[color];
+    auto& per_polygon = out[color];
     for (const Polygon& poly : polygons) {
+      auto& pixels = per_polygon.emplace_back();
       if (poly.size() < 3) continue;
       double x0 = poly[0].x(), x1 = x0, y0 = poly[0].y(), y1 = y0;
       for (const auto& p : poly) {
@@ -743,6 +822,16 @@ std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image
         }
       }
     }
+  }
+  return out;
+}
+
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
+                                                                  const ColorSamples& samples) {
+  std::map<ColorClass, std::vector<cv::Point>> out;
+  for (const auto& [color, per_polygon] : samplePixelPositionsPerPolygon(image_size, samples)) {
+    auto& pixels = out[color];
+    for (const auto& positions : per_polygon) pixels.insert(pixels.end(), positions.begin(), positions.end());
   }
   return out;
 }
@@ -909,38 +998,13 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     st.mean_lab = {st.mean_lab.l / n, st.mean_lab.a / n, st.mean_lab.b / n};
     st.mean_h = circularMeanDegrees(hsv);
 
-    std::vector<Hsv> valid;
-    std::vector<Lab> valid_lab;
     std::vector<Hsv> body_only;  // samples that claim their own cells but do not shape the Gaussian
     const SampleCentre centre = markerCentre(color, pixels, lab, hsv, st, body_only);
-    for (std::size_t i = 0; i < pixels.size(); ++i) {
-      if (centre.valid[i]) {
-        valid.push_back(hsv[i]);
-        valid_lab.push_back(lab[i]);
-      }
-    }
-    st.valid = static_cast<std::uint32_t>(valid.size());
-    for (std::size_t i = 0; i < pixels.size(); ++i) {
-      if (centre.valid[i]) appendUnclippedVariants(pixels[i], valid, valid_lab);
-    }
-    if (generalize && params.brightness_spread > 0 && isRobotMarkerColor(color)) {
-      for (std::size_t i = 0; i < pixels.size(); ++i) {
-        if (centre.valid[i])
-          appendBrightnessVariants(pixels[i], hsv[i], params.brightness_spread, valid, valid_lab);
-      }
-    }
-    if (generalize && params.clipped_variants && brightest_light > 1 && isRobotMarkerColor(color)) {
-      // Into the class's Gaussian, not as a part of its own: such parts outranked
-      // neighbouring classes (JPEG'd markers of another id on held-out seed 9014).
-      for (std::size_t i = 0; i < pixels.size(); ++i) {
-        if (centre.valid[i]) appendClippedVariant(pixels[i], brightest_light, valid, valid_lab);
-      }
-    }
-    if (generalize && params.clipped_twice_path && brightest_light > 1 && isRobotMarkerColor(color)) {
-      for (std::size_t i = 0; i < pixels.size(); ++i) {
-        if (centre.valid[i]) appendClippedTwicePath(pixels[i], brightest_light, body_only);
-      }
-    }
+    st.valid = static_cast<std::uint32_t>(std::count(centre.valid.begin(), centre.valid.end(), true));
+    const bool marker = isRobotMarkerColor(color);
+    PrintColours print = printColours(pixels, hsv, lab, centre.valid, marker, params, brightest_light);
+    body_only.insert(body_only.end(), print.body_only.begin(), print.body_only.end());
+    std::vector<Hsv>& valid = print.hsv;
     // The ball's samples mixed with the carpet and unmixed from it, level by level.
     std::vector<std::vector<Lab>> mixture_levels;
     if (color == ColorClass::Orange && carpet_colour) {
@@ -956,11 +1020,25 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
       }
     }
     fitGaussian(valid, params, st);
+    // Other prints of the colour: their own cells and Gaussians, not the class's statistics.
+    std::vector<std::vector<bool>> other_masks;
+    if (params.other_prints && marker)
+      other_masks = otherPrints(pixels, lab, hsv, st.thresholds, centre.valid);
+    std::vector<PrintColours> others;
+    for (const std::vector<bool>& mask : other_masks) {
+      st.valid += static_cast<std::uint32_t>(std::count(mask.begin(), mask.end(), true));
+      others.push_back(printColours(pixels, hsv, lab, mask, marker, params, brightest_light));
+    }
 
     // The body: per HS cell, the V bins between its lowest and highest valid pixel.
     std::fill(v_min.begin(), v_min.end(), INT_MAX);
     std::fill(v_max.begin(), v_max.end(), INT_MIN);
-    for (const std::vector<Hsv>* body : {&valid, &body_only}) {
+    std::vector<const std::vector<Hsv>*> bodies = {&valid, &body_only};
+    for (const PrintColours& other : others) {
+      bodies.push_back(&other.hsv);
+      bodies.push_back(&other.body_only);
+    }
+    for (const std::vector<Hsv>* body : bodies) {
       for (const Hsv& p : *body) {
         const std::size_t hs = static_cast<std::size_t>(table.hBin(p.h)) * s_bins + table.sBin(p.s);
         const int v = static_cast<int>(p.v);
@@ -979,16 +1057,19 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     }
     if (generalize && !valid.empty()) {
       ClassModel& model = lab_models[static_cast<std::size_t>(color)];
-      const Eigen::Matrix3d least =
-          params.print_spread > 0 && isRobotMarkerColor(color)
-              ? printVariantCovariance(pixels, hsv, lab, centre.valid, params.print_spread)
-              : Eigen::Matrix3d::Zero();
-      model.parts.push_back(fitLabGaussian(valid_lab, params, least));
+      auto least = [&](const std::vector<bool>& mask) -> Eigen::Matrix3d {
+        return params.print_spread > 0 && marker
+                   ? printVariantCovariance(pixels, hsv, lab, mask, params.print_spread)
+                   : Eigen::Matrix3d::Zero();
+      };
+      model.parts.push_back(fitLabGaussian(print.lab, params, least(centre.valid)));
       for (const std::vector<Lab>& level : mixture_levels) {
         LabGaussian moved = model.parts.front();
         moved.mean = meanLab(level);
         model.parts.push_back(moved);
       }
+      for (std::size_t k = 0; k < others.size(); ++k)
+        model.parts.push_back(fitLabGaussian(others[k].lab, params, least(other_masks[k])));
       const double bound = params.generalize_sigmas * params.generalize_sigmas;
       for (std::size_t i = 0; i < n_cells; ++i) {
         if ((claims[i] & bit) || (!background_cell.empty() && background_cell[i])) continue;

@@ -607,6 +607,35 @@ TEST(BallDetection, PartsOfLargerBlobsAreNoBallsAndABallBesideATeamTagIs) {
   EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
 }
 
+// A blurred orange ball on the green carpet mixes into a yellow's hue at its edge; with a
+// yellow print of that hue in the table the edge is a yellow ring around the orange, larger
+// than it (held-out seed 9039: the ball lost in 18 frames). The ring is the ball's own rim,
+// not a team marker the ball would be part of; a ring much wider than a rim is not.
+TEST(BallDetection, ABallWhoseRimReadYellowIsABall) {
+  const BallDetector detector(kCamera, kField);
+  const Eigen::Vector3d ball(1.2, -0.8, 0.0215);
+  const Eigen::Vector2d centre = *kCamera.project(ball);
+  const Eigen::Vector3d w = ball - kCamera.cameraCentre();
+  auto ring = [&](double inner, double outer) {
+    return test::rasterise(ColorClass::Yellow, centre, 14, [&](const Eigen::Vector2d& p) {
+      const Eigen::Vector3d ray = kCamera.pixelRay(p);
+      const double d = (w - w.dot(ray) * ray).norm();
+      return d > inner && d <= outer;
+    });
+  };
+  const Region core = ballRegion(kCamera, ball, 0.015);  // the blur leaves the middle orange
+  const Region rim = ring(0.015, 0.027);
+  ASSERT_GT(rim.area, core.area) << "the larger-region rule would take it";
+  RejectionCounts rejected;
+  const auto balls = detector.detect({core, rim}, {}, &rejected);
+  ASSERT_EQ(balls.size(), 1u) << rejected.summary();
+  EXPECT_LT((balls[0].pixel - centre).norm(), 0.5);
+  // A yellow disc twice the ball's size whose middle read orange is something else.
+  rejected = {};
+  EXPECT_TRUE(detector.detect({core, ring(0.015, 0.06)}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
+}
+
 // A robot pattern that uses orange for an id marker: that region is the robot's, not a ball.
 TEST(BallDetection, RegionsUsedByRobotsAreNotBalls) {
   PatternSet p = PatternSet::twoTag();

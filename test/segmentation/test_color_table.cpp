@@ -440,6 +440,64 @@ TEST(ColorTable, AYellowSampledClippedInADimBlockStaysYellowUnclippedUnderADimme
   expectEachSampleIsItsOwnClass(table, filed);
 }
 
+// Held-out seed 9039 (spent): the calibration frame's two yellow tags were printed in two
+// shades, one read hue 65-70° (G over R), the other 40° (R over G), 12 pixels of each here
+// under even light. The class's valid pixels follow one of them; the other tag's are all
+// invalid, and its robot read orange or robot top in 20 % of the frames. A polygon whose
+// pixels are mostly outside its class's valid colours is another print
+// (ColorTableParams::other_prints): its own cells and Gaussian. Known polygons only.
+TEST(ColorTable, ATagPrintedInAnotherShadeOfItsColourKeepsItsColour) {
+  const std::vector<cv::Vec3b> greenish{{39, 200, 180}, {33, 210, 183}, {35, 194, 205}, {44, 206, 183},
+                                        {33, 218, 187}, {40, 208, 189}, {36, 219, 194}, {43, 219, 171},
+                                        {36, 210, 177}, {39, 205, 188}, {35, 201, 188}, {32, 191, 181}};
+  const std::vector<cv::Vec3b> orangish{{36, 163, 221}, {36, 172, 227}, {37, 147, 218}, {33, 162, 237},
+                                        {37, 167, 233}, {38, 149, 215}, {32, 163, 230}, {41, 169, 236},
+                                        {40, 170, 206}, {38, 153, 222}, {40, 164, 201}, {34, 161, 213}};
+  const std::vector<cv::Vec3b> ball{{4, 88, 202},  {5, 93, 206},  {10, 109, 222}, {9, 92, 205},
+                                    {8, 102, 239}, {10, 98, 214}, {10, 101, 224}, {7, 92, 222}};
+  auto build = [&](bool known_markers, bool other_prints) {
+    ClassSamplePixels samples;
+    auto add = [&](ColorClass c, const std::vector<cv::Vec3b>& pixels, std::uint32_t marker) {
+      for (const cv::Vec3b& p : pixels)
+        samples[c].push_back({p, std::max({p[0], p[1], p[2]}), known_markers ? marker : 0u});
+    };
+    add(ColorClass::Yellow, greenish, 1);
+    add(ColorClass::Yellow, orangish, 2);
+    add(ColorClass::Orange, ball, 3);
+    for (int i = 0; i < 12; ++i) {
+      const int d = i % 5 - 2;
+      add(ColorClass::Carpet, {cv::Vec3b(50 + d, 125 - d, 55 + d)}, 4);
+      add(ColorClass::RobotTop, {cv::Vec3b(25 + d, 22, 20 - d)}, 5);
+    }
+    ColorTableParams params;
+    params.other_prints = other_prints;
+    return ColorTable::buildFromSamplePixels(samples, params);
+  };
+  const ColorTable table = build(true, true);
+  auto yellows = [](const ColorTable& t, const std::vector<cv::Vec3b>& pixels, double light) {
+    int n = 0;
+    for (const cv::Vec3b& p : pixels) {
+      const cv::Vec3b q(cv::saturate_cast<std::uint8_t>(p[0] * light),
+                        cv::saturate_cast<std::uint8_t>(p[1] * light),
+                        cv::saturate_cast<std::uint8_t>(p[2] * light));
+      n += t.classify(q[0], q[1], q[2], 0, gainUnder(light)) == ColorClass::Yellow;
+    }
+    return n;
+  };
+  for (const double light : {0.8, 1.0, 1.1}) {  // the same tags under other lamps
+    EXPECT_EQ(yellows(table, greenish, light), 12) << light;
+    EXPECT_EQ(yellows(table, orangish, light), 12) << light;
+    for (const cv::Vec3b& p : ball) EXPECT_EQ(table.classify(p[0], p[1], p[2]), ColorClass::Orange);
+  }
+  EXPECT_EQ(table.statistics().classes[static_cast<int>(ColorClass::Yellow)].valid, 24u);
+  // Without it, or without knowing the polygons, a third of one tag's pixels or more is lost.
+  for (const ColorTable& without : {build(true, false), build(false, true)}) {
+    for (const double light : {0.8, 1.0, 1.1})  // 7 of 12 were left
+      EXPECT_LE(std::min(yellows(without, greenish, light), yellows(without, orangish, light)), 8) << light;
+    EXPECT_LT(without.statistics().classes[static_cast<int>(ColorClass::Yellow)].valid, 24u);
+  }
+}
+
 // Held-out seed 9019 of rand_uneven_lamps: two of the three yellow markers of the
 // calibration frame stood under the brightest lamp and read (69, 255, 255), red and green
 // both clipped, hue 60°; the third read (39, 192, 236), hue 47°, the print's. A robot in the
@@ -872,6 +930,23 @@ TEST(ColorTable, CollectsPixelsWhoseCentreIsInsideAPolygonOnce) {
   ASSERT_EQ(pixels.at(ColorClass::Orange).size(), 1u);
   EXPECT_EQ(pixels.at(ColorClass::Orange)[0], cv::Vec3b(0, 0, 7));
   EXPECT_THROW(collectSamplePixels(cv::Mat1b(4, 4), samples), std::invalid_argument);
+}
+
+// Per polygon, in their order: a pixel inside two polygons of a class is the first's, a
+// polygon outside the image selects none and keeps its place; the flat list is their union.
+TEST(ColorTable, SamplePixelsPerPolygonGoToTheFirstPolygonThatHoldsThem) {
+  ColorSamples samples;
+  const Polygon left = {{1.5, 2.5}, {5.5, 2.5}, {5.5, 4.5}, {1.5, 4.5}};   // u 2..5, v 3..4
+  const Polygon right = {{3.5, 2.5}, {7.5, 2.5}, {7.5, 4.5}, {3.5, 4.5}};  // u 4..7, v 3..4
+  samples[ColorClass::Yellow] = {left, {{30, 30}, {40, 30}, {40, 40}}, right};
+  const auto per_polygon = samplePixelPositionsPerPolygon(cv::Size(20, 20), samples);
+  const auto& yellow = per_polygon.at(ColorClass::Yellow);
+  ASSERT_EQ(yellow.size(), 3u);
+  EXPECT_EQ(yellow[0].size(), 8u);
+  EXPECT_TRUE(yellow[1].empty());
+  ASSERT_EQ(yellow[2].size(), 4u);  // u 6..7: 4 and 5 were the first's
+  for (const cv::Point& p : yellow[2]) EXPECT_GE(p.x, 6);
+  EXPECT_EQ(samplePixelPositions(cv::Size(20, 20), samples).at(ColorClass::Yellow).size(), 12u);
 }
 
 // Integer coordinates are pixel centres, and polygon edges through centres are half-open:

@@ -83,11 +83,19 @@ class BallDetector {
  private:
   // The robots' tops in the image, once per frame (none when robot_top_fraction is 0).
   std::vector<ImageDisc> robotTops(const std::vector<RobotDetection>& robots) const;
+  // An orange cluster (the fragments of one ball) as the blob test sees it.
+  struct Cluster {
+    Eigen::Vector2d pixel;  // area-weighted centre
+    double area = 0;        // px
+    cv::Rect box;           // of its fragments
+    double elongation = 1;  // major over minor standard deviation of its pixels
+  };
   // Whether a region larger than blob_area_ratio x `expected_area` reaches within one ball
-  // `diameter` [px] of `pixel`, or `pixel` lies inside the bounding box of a team-coloured
-  // region larger than the cluster (`cluster_area`). Both off when blob_area_ratio is 0.
-  bool onLargeBlob(const std::vector<Region>& regions, const Eigen::Vector2d& pixel, double cluster_area,
-                   double expected_area, double diameter) const;
+  // `diameter` [px] of the cluster's centre, or that centre lies inside the bounding box of
+  // a team-coloured region larger than the cluster that is not its rim. Both off when
+  // blob_area_ratio is 0.
+  bool onLargeBlob(const std::vector<Region>& regions, const Cluster& cluster, double expected_area,
+                   double diameter) const;
   // Whether an image point lies within robot_top_fraction of one of those tops.
   bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const;
 

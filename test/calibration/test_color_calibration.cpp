@@ -1,0 +1,75 @@
+// calibrateColorTable numbers the sample polygons over all its images (SamplePixel::marker),
+// so that a tag printed in another shade of its colour is recognised as another print of
+// it (ColorTableParams::other_prints), in the first image or in a second one.
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "soccer_vision/calibration/color_calibration.h"
+
+using namespace soccer_vision;
+
+namespace {
+
+// A carpet with three 12 x 6 px patches: two yellow tags in two shades (hue 66° and 40°,
+// held-out seed 9039's) and an orange ball, each with a little noise.
+const cv::Vec3b kGreenish(38, 205, 186), kOrangish(37, 161, 220), kOrange(8, 97, 215);
+
+cv::Mat3b fieldImage() {
+  cv::Mat3b image(48, 64, cv::Vec3b(50, 125, 55));
+  auto patch = [&](int x, int y, const cv::Vec3b& c) {
+    for (int v = y; v < y + 6; ++v) {
+      for (int u = x; u < x + 12; ++u) {
+        const int d = (u * 7 + v * 3) % 9 - 4;
+        image(v, u) = cv::Vec3b(c[0] + d / 2, c[1] + d, c[2] - d);
+      }
+    }
+  };
+  patch(4, 4, kGreenish);
+  patch(40, 4, kOrangish);
+  patch(4, 30, kOrange);
+  return image;
+}
+
+// A polygon 1 px inside the patch at (x, y).
+Polygon inside(int x, int y) {
+  return {{x + 0.5, y + 0.5}, {x + 10.5, y + 0.5}, {x + 10.5, y + 4.5}, {x + 0.5, y + 4.5}};
+}
+
+int yellowPixels(const ColorTable& table, const cv::Mat3b& image, int x, int y) {
+  int n = 0;
+  for (int v = y; v < y + 6; ++v) {
+    for (int u = x; u < x + 12; ++u) {
+      const cv::Vec3b p = image(v, u);
+      n += table.classify(p[0], p[1], p[2]) == ColorClass::Yellow;
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST(ColorCalibration, TwoTagsOfAColourInTwoShadesAreBothItsOwn) {
+  const cv::Mat3b image = fieldImage();
+  ColorSamples samples;
+  samples[ColorClass::Yellow] = {inside(4, 4), inside(40, 4)};
+  samples[ColorClass::Orange] = {inside(4, 30)};
+  samples[ColorClass::Carpet] = {{{30, 20}, {60, 20}, {60, 44}, {30, 44}}};
+  ColorTableParams off;
+  off.other_prints = false;
+  for (const bool second_image : {false, true}) {
+    // The same tags, or the second one painted on another frame.
+    std::vector<CalibrationImage> images{{image, samples}};
+    if (second_image) {
+      images[0].samples[ColorClass::Yellow].pop_back();
+      images.push_back({image, {{ColorClass::Yellow, {inside(40, 4)}}}, false});
+    }
+    const ColorTable table = calibrateColorTable(images);
+    EXPECT_EQ(yellowPixels(table, image, 4, 4), 72) << second_image;
+    EXPECT_EQ(yellowPixels(table, image, 40, 4), 72) << second_image;
+    EXPECT_EQ(yellowPixels(table, image, 4, 30), 0) << second_image;
+    const ColorTable without = calibrateColorTable(images, off);
+    EXPECT_LT(std::min(yellowPixels(without, image, 4, 4), yellowPixels(without, image, 40, 4)), 72)
+        << second_image;
+  }
+}
