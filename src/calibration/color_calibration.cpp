@@ -15,6 +15,19 @@ namespace {
 // marker leaves its rim, and blur and the lens spread the colour a little farther.
 constexpr int kMarkerMargin = 4;
 
+// The markers a class was sampled on: the connected patches (8-neighbours) of its sample
+// pixels, labelled from 1 over their bounding box. A stroke of the calibration UI is many
+// small polygons, one marker; two polygons on two markers do not touch.
+cv::Mat1i samplePatches(const std::vector<cv::Point>& positions) {
+  if (positions.empty()) return {};
+  const cv::Rect box = cv::boundingRect(positions);
+  cv::Mat1b mask = cv::Mat1b::zeros(box.size());
+  for (const cv::Point& p : positions) mask(p - box.tl()) = 1;
+  cv::Mat1i labels;
+  cv::connectedComponents(mask, labels, 8, CV_32S);
+  return labels;
+}
+
 }  // namespace
 
 cv::Mat classifiedColors(const cv::Mat& image, PixelLayout layout) {
@@ -52,7 +65,7 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
   ClassSamplePixels pixels;
   double brightest_light = 1.0;  // over the mean light, in any image (ColorTableParams::clipped_variants)
   std::vector<SamplePixel> background;  // only for the background model, when it is on
-  std::uint32_t marker = 0;             // the polygons, numbered over all images
+  std::uint32_t markers = 0;            // sample patches numbered so far, over all images
   const bool background_model = params.generalize_sigmas > 0 && params.background_share > 0;
   for (const auto& image : images) {
     // Each image's samples under that image's own light: with several images taken at
@@ -79,16 +92,19 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
     // to it) are not background; everything else is, sampled or not.
     cv::Mat1b near_markers;
     if (background_model) near_markers = cv::Mat1b::zeros(image.bgr.size());
-    for (const auto& [cls, per_polygon] : samplePixelPositionsPerPolygon(image.bgr.size(), image.samples)) {
+    for (const auto& [cls, positions] : samplePixelPositions(image.bgr.size(), image.samples)) {
       auto& all = pixels[cls];
-      for (const auto& positions : per_polygon) {
-        ++marker;
-        for (const cv::Point& p : positions) {
-          all.push_back(filed(p.x, p.y));
-          all.back().marker = marker;
-          if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
-        }
+      const cv::Mat1i patch = samplePatches(positions);
+      const cv::Rect box = positions.empty() ? cv::Rect() : cv::boundingRect(positions);
+      int patches = 0;
+      for (const cv::Point& p : positions) {
+        const int label = patch(p - box.tl());
+        all.push_back(filed(p.x, p.y));
+        all.back().marker = markers + static_cast<std::uint32_t>(label);
+        patches = std::max(patches, label);
+        if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
       }
+      markers += static_cast<std::uint32_t>(patches);
     }
     if (!background_model || !image.unsampled_is_background) continue;
     cv::dilate(

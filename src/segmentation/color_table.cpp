@@ -368,7 +368,7 @@ SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixe
 }
 
 // Another print of a robot marker colour (ColorTableParams::other_prints): the samples of a
-// polygon (SamplePixel::marker) of which fewer than half of those that show their hue are
+// marker (SamplePixel::marker) of which fewer than half of those that show their hue are
 // valid, selected around their own centre as the class's are around its. At least
 // kMinHueSamples of them must show their hue and as many must be valid: a few pixels of a
 // marker's rim are no print. Per print, a mask over `pixels`.
@@ -786,17 +786,16 @@ ClassStatistics readClassStatistics(ByteReader& r) {
 
 }  // namespace
 
-std::map<ColorClass, std::vector<std::vector<cv::Point>>> samplePixelPositionsPerPolygon(
-    cv::Size image_size, const ColorSamples& samples) {
+std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
+                                                                  const ColorSamples& samples) {
   checkColorSamples(samples);  // NaN/huge vertices would overflow the int casts below
-  std::map<ColorClass, std::vector<std::vector<cv::Point>>> out;
+  std::map<ColorClass, std::vector<cv::Point>> out;
   cv::Mat1b taken(image_size);
   std::vector<double> crossings;
   for (const auto& [color, polygons] : samples) {
     taken.setTo(0);
-    auto& per_polygon = out[color];
+    auto& pixels = out[color];
     for (const Polygon& poly : polygons) {
-      auto& pixels = per_polygon.emplace_back();
       if (poly.size() < 3) continue;
       double x0 = poly[0].x(), x1 = x0, y0 = poly[0].y(), y1 = y0;
       for (const auto& p : poly) {
@@ -822,16 +821,6 @@ std::map<ColorClass, std::vector<std::vector<cv::Point>>> samplePixelPositionsPe
         }
       }
     }
-  }
-  return out;
-}
-
-std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
-                                                                  const ColorSamples& samples) {
-  std::map<ColorClass, std::vector<cv::Point>> out;
-  for (const auto& [color, per_polygon] : samplePixelPositionsPerPolygon(image_size, samples)) {
-    auto& pixels = out[color];
-    for (const auto& positions : per_polygon) pixels.insert(pixels.end(), positions.begin(), positions.end());
   }
   return out;
 }

@@ -1,6 +1,7 @@
-// calibrateColorTable numbers the sample polygons over all its images (SamplePixel::marker),
-// so that a tag printed in another shade of its colour is recognised as another print of
-// it (ColorTableParams::other_prints), in the first image or in a second one.
+// calibrateColorTable numbers the markers sampled, the connected patches of each class's
+// sample pixels, over all its images (SamplePixel::marker), so that a tag printed in another
+// shade of its colour is recognised as another print of it (ColorTableParams::other_prints),
+// in the first image or in a second one, painted with one polygon or a stroke of many.
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -72,4 +73,18 @@ TEST(ColorCalibration, TwoTagsOfAColourInTwoShadesAreBothItsOwn) {
     EXPECT_LT(std::min(yellowPixels(without, image, 4, 4), yellowPixels(without, image, 40, 4)), 72)
         << second_image;
   }
+  // The second tag painted as the calibration UI sends a stroke: a rectangle per segment,
+  // overlapping. One marker, the same table as one polygon over it.
+  ColorSamples stroke = samples;
+  stroke[ColorClass::Yellow] = {inside(4, 4),
+                                {{40.5, 0.5 + 4}, {44.5, 4.5}, {44.5, 8.5}, {40.5, 8.5}},
+                                {{43.5, 4.5}, {48.5, 4.5}, {48.5, 8.5}, {43.5, 8.5}},
+                                {{47.5, 4.5}, {50.5, 4.5}, {50.5, 8.5}, {47.5, 8.5}}};
+  const ColorTable one = calibrateColorTable({{image, samples}});
+  const ColorTable many = calibrateColorTable({{image, stroke}});
+  const auto yellow = static_cast<int>(ColorClass::Yellow);
+  EXPECT_EQ(many.statistics().classes[yellow].samples, one.statistics().classes[yellow].samples);
+  EXPECT_EQ(many.statistics().classes[yellow].cells_assigned,
+            one.statistics().classes[yellow].cells_assigned);
+  EXPECT_EQ(yellowPixels(many, image, 40, 4), 72);
 }

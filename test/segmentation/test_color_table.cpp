@@ -443,9 +443,9 @@ TEST(ColorTable, AYellowSampledClippedInADimBlockStaysYellowUnclippedUnderADimme
 // Held-out seed 9039 (spent): the calibration frame's two yellow tags were printed in two
 // shades, one read hue 65-70° (G over R), the other 40° (R over G), 12 pixels of each here
 // under even light. The class's valid pixels follow one of them; the other tag's are all
-// invalid, and its robot read orange or robot top in 20 % of the frames. A polygon whose
+// invalid, and its robot read orange or robot top in 20 % of the frames. A marker whose
 // pixels are mostly outside its class's valid colours is another print
-// (ColorTableParams::other_prints): its own cells and Gaussian. Known polygons only.
+// (ColorTableParams::other_prints): its own cells and Gaussian. Known markers only.
 TEST(ColorTable, ATagPrintedInAnotherShadeOfItsColourKeepsItsColour) {
   const std::vector<cv::Vec3b> greenish{{39, 200, 180}, {33, 210, 183}, {35, 194, 205}, {44, 206, 183},
                                         {33, 218, 187}, {40, 208, 189}, {36, 219, 194}, {43, 219, 171},
@@ -930,23 +930,6 @@ TEST(ColorTable, CollectsPixelsWhoseCentreIsInsideAPolygonOnce) {
   ASSERT_EQ(pixels.at(ColorClass::Orange).size(), 1u);
   EXPECT_EQ(pixels.at(ColorClass::Orange)[0], cv::Vec3b(0, 0, 7));
   EXPECT_THROW(collectSamplePixels(cv::Mat1b(4, 4), samples), std::invalid_argument);
-}
-
-// Per polygon, in their order: a pixel inside two polygons of a class is the first's, a
-// polygon outside the image selects none and keeps its place; the flat list is their union.
-TEST(ColorTable, SamplePixelsPerPolygonGoToTheFirstPolygonThatHoldsThem) {
-  ColorSamples samples;
-  const Polygon left = {{1.5, 2.5}, {5.5, 2.5}, {5.5, 4.5}, {1.5, 4.5}};   // u 2..5, v 3..4
-  const Polygon right = {{3.5, 2.5}, {7.5, 2.5}, {7.5, 4.5}, {3.5, 4.5}};  // u 4..7, v 3..4
-  samples[ColorClass::Yellow] = {left, {{30, 30}, {40, 30}, {40, 40}}, right};
-  const auto per_polygon = samplePixelPositionsPerPolygon(cv::Size(20, 20), samples);
-  const auto& yellow = per_polygon.at(ColorClass::Yellow);
-  ASSERT_EQ(yellow.size(), 3u);
-  EXPECT_EQ(yellow[0].size(), 8u);
-  EXPECT_TRUE(yellow[1].empty());
-  ASSERT_EQ(yellow[2].size(), 4u);  // u 6..7: 4 and 5 were the first's
-  for (const cv::Point& p : yellow[2]) EXPECT_GE(p.x, 6);
-  EXPECT_EQ(samplePixelPositions(cv::Size(20, 20), samples).at(ColorClass::Yellow).size(), 12u);
 }
 
 // Integer coordinates are pixel centres, and polygon edges through centres are half-open:

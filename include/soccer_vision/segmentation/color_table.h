@@ -41,8 +41,9 @@ using ClassPixels = std::map<ColorClass, std::vector<cv::Vec3b>>;
 // A sample pixel and the V under which the table files it: the V the run-time
 // classification will look up for it (its V brought to the reference illumination, see
 // illumination_adaptation.h); max(b, g, r) for a pixel taken as it is.
-// `marker`: which sample polygon it came from (numbered from 1 over all images), 0 when
-// unknown: the pixels of one marker are one print of its colour (ColorTableParams::other_prints).
+// `marker`: which marker it was sampled on, numbered from 1 over all calibration images (a
+// connected patch of its class's sample pixels, calibrateColorTable), 0 when unknown: the
+// pixels of one marker are one print of its colour (ColorTableParams::other_prints).
 struct SamplePixel {
   cv::Vec3b bgr;
   std::uint8_t v = 0;
@@ -55,10 +56,6 @@ using ClassSamplePixels = std::map<ColorClass, std::vector<SamplePixel>>;
 // same class is taken once.
 std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
                                                                   const ColorSamples& samples);
-// The same per polygon, in the polygons' order: a pixel inside several polygons of a class
-// belongs to the first of them (a polygon of fewer than 3 vertices selects none).
-std::map<ColorClass, std::vector<std::vector<cv::Point>>> samplePixelPositionsPerPolygon(
-    cv::Size image_size, const ColorSamples& samples);
 // Their colours in a CV_8UC3 BGR image. Throws std::invalid_argument for another type.
 ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples);
 
@@ -156,13 +153,13 @@ struct ColorTableParams {
   // and green: hue 60°, its saturation falling with the light). Such colours claim their
   // cells (V normalised back) without shaping the Gaussian. false = off.
   bool clipped_twice_path = true;
-  // Another print of a robot marker colour: a sample polygon (SamplePixel::marker) of such
-  // a class whose pixels are mostly outside the class's valid colours (its validity centre
-  // follows the other polygons) is a marker printed in another shade. Its own valid pixels
+  // Another print of a robot marker colour: a marker (SamplePixel::marker) of such a class
+  // whose sample pixels are mostly outside the class's valid colours (its validity centre
+  // follows the other markers) is printed in another shade. Its own valid pixels
   // (the same selection, around their own centre) become a part of the class of their own:
   // cells and a Gaussian. On held-out seed 9039 one robot's yellow tag read hue 40° where the
   // other read 68°; the one-frame table read it orange (docs/segmentation.md). false = off:
-  // such a polygon's pixels are invalid, as the paper has it.
+  // such a marker's pixels are invalid, as the paper has it.
   bool other_prints = true;
   // A cell that the lines' class and a robot marker class both claim goes to the marker,
   // whatever their Gaussians say. Lines are thin: no robot is found or lost by a line's
@@ -201,8 +198,8 @@ Hsv cellProbe(const ColorTableParams& params, int h_bin, int s_bin, int v_bin, i
 struct ClassStatistics {
   std::uint32_t samples = 0;
   std::uint32_t valid = 0;  // of all its prints (ColorTableParams::other_prints)
-  Lab mean_lab;       // of all samples
-  double mean_h = 0;  // circular mean of all samples, degrees
+  Lab mean_lab;             // of all samples
+  double mean_h = 0;        // circular mean of all samples, degrees
   ClassThresholds thresholds;
   // Gaussian naive Bayes model of the valid pixels: h in degrees (circular mean, variance of
   // the wrapped differences), s in [0, 1], v in 0..255. Variances are at least the
