@@ -935,7 +935,32 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
   // Bit c of claims[cell] is set when class c's body contains the cell.
   static_assert(kNumColorClasses <= 16, "claims are a 16-bit mask");
   std::vector<std::uint16_t> claims(n_cells, 0);
+  // Bit c of clipped_claims[cell]: class c claims it with a colour clipped twice (a sample
+  // or the path of ColorTableParams::clipped_twice_path), which its Gaussian does not hold.
+  std::vector<std::uint16_t> clipped_claims(n_cells, 0);
   std::vector<int> v_min(hs_cells), v_max(hs_cells);
+  // Per HS cell, the lowest and highest V of the colours (none: v_max < v_min).
+  auto vRanges = [&](const std::vector<const std::vector<Hsv>*>& colours, std::vector<int>& lo,
+                     std::vector<int>& hi) {
+    std::fill(lo.begin(), lo.end(), INT_MAX);
+    std::fill(hi.begin(), hi.end(), INT_MIN);
+    for (const std::vector<Hsv>* list : colours) {
+      for (const Hsv& p : *list) {
+        const std::size_t hs = static_cast<std::size_t>(table.hBin(p.h)) * s_bins + table.sBin(p.s);
+        lo[hs] = std::min(lo[hs], static_cast<int>(p.v));
+        hi[hs] = std::max(hi[hs], static_cast<int>(p.v));
+      }
+    }
+  };
+  // The cells of those ranges, widened by v_margin, get `bit`.
+  auto claimVRanges = [&](const std::vector<int>& lo, const std::vector<int>& hi, std::uint16_t bit,
+                          std::vector<std::uint16_t>& out) {
+    for (std::size_t hs = 0; hs < hs_cells; ++hs) {
+      if (hi[hs] < lo[hs]) continue;
+      for (int vb = table.vBin(lo[hs] - params.v_margin); vb <= table.vBin(hi[hs] + params.v_margin); ++vb)
+        out[hs * v_bins + vb] |= bit;
+    }
+  };
   const bool generalize = params.generalize_sigmas > 0;
   std::array<ClassModel, kNumColorClasses> lab_models;
   const std::vector<Lab> probes = generalize ? cellProbeColors(params) : std::vector<Lab>();
@@ -1020,29 +1045,20 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     }
 
     // The body: per HS cell, the V bins between its lowest and highest valid pixel.
-    std::fill(v_min.begin(), v_min.end(), INT_MAX);
-    std::fill(v_max.begin(), v_max.end(), INT_MIN);
     std::vector<const std::vector<Hsv>*> bodies = {&valid, &body_only};
+    std::vector<const std::vector<Hsv>*> clipped = {&body_only};
     for (const PrintColours& other : others) {
       bodies.push_back(&other.hsv);
       bodies.push_back(&other.body_only);
+      clipped.push_back(&other.body_only);
     }
-    for (const std::vector<Hsv>* body : bodies) {
-      for (const Hsv& p : *body) {
-        const std::size_t hs = static_cast<std::size_t>(table.hBin(p.h)) * s_bins + table.sBin(p.s);
-        const int v = static_cast<int>(p.v);
-        v_min[hs] = std::min(v_min[hs], v);
-        v_max[hs] = std::max(v_max[hs], v);
-      }
-    }
-    if (params.hs_closing > 0 && !valid.empty()) closeInHs(params, st, v_min, v_max);
     const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));
-    for (std::size_t hs = 0; hs < hs_cells; ++hs) {
-      if (v_max[hs] < v_min[hs]) continue;
-      for (int vb = table.vBin(v_min[hs] - params.v_margin); vb <= table.vBin(v_max[hs] + params.v_margin);
-           ++vb) {
-        claims[hs * v_bins + vb] |= bit;
-      }
+    vRanges(bodies, v_min, v_max);
+    if (params.hs_closing > 0 && !valid.empty()) closeInHs(params, st, v_min, v_max);
+    claimVRanges(v_min, v_max, bit, claims);
+    if (params.clipped_cells_own) {
+      vRanges(clipped, v_min, v_max);
+      claimVRanges(v_min, v_max, bit, clipped_claims);
     }
     if (generalize && !valid.empty()) {
       ClassModel& model = lab_models[static_cast<std::size_t>(color)];
@@ -1080,8 +1096,10 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
   const std::uint16_t chromatic_markers = chromaticMarkerBits(table.stats_);
   const double wh = 360.0 / params.h_bins, ws = 1.0 / s_bins, wv = 256.0 / v_bins;
   for (std::size_t i = 0; i < n_cells; ++i) {
-    const std::uint16_t mask = claims[i];
+    std::uint16_t mask = claims[i];
     if (mask == 0) continue;
+    // A colour clipped twice has no Gaussian to compete with: the classes that saw it have it.
+    if (clipped_claims[i] != 0) mask = clipped_claims[i];
     int winner = 0;
     if (std::bitset<16>(mask).count() == 1) {
       while (!(mask & (1u << winner))) ++winner;

@@ -109,6 +109,9 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
   app.add_option("--clipped-twice-path", o.params.clipped_twice_path,
                  "robot markers also where two channels clip, up to the images' brightest light (true/false)")
       ->capture_default_str();
+  app.add_option("--clipped-cells-own", o.params.clipped_cells_own,
+                 "a colour a robot marker sample shows clipped twice stays that class's (true/false)")
+      ->capture_default_str();
   app.add_option("--other-prints", o.params.other_prints,
                  "a robot marker polygon mostly outside its class's valid colours is another print of it "
                  "(true/false)")

@@ -498,6 +498,45 @@ TEST(ColorTable, ATagPrintedInAnotherShadeOfItsColourKeepsItsColour) {
   }
 }
 
+// Held-out seed 9040 of rand_uneven_lamps (spent): the calibration frame's yellow tags read
+// hue 42° in a dim block and (52..66, 255, 255), clipped twice, under the brightest lamp;
+// the ball read hue 42° too, its red clipped. Samples clipped twice shape no Gaussian, so
+// orange's took every contested cell of theirs, and two robots whose tags stood under that
+// lamp read orange in 80 % of their frames. The cells a class claims with colours clipped
+// twice are decided among the classes that claim them so (ColorTableParams::clipped_cells_own).
+TEST(ColorTable, ATagClippedTwiceUnderALampStaysItsColourBesideABallOfItsHue) {
+  const FiledSamples filed{
+      {ColorClass::Yellow,
+       {{40, 182, 254, 255}, {35, 172, 224, 255}, {28, 182, 241, 255}, {41, 183, 240, 255},
+        {34, 195, 247, 255}, {38, 184, 235, 255}, {33, 177, 238, 255}, {32, 172, 255, 255},
+        {32, 169, 252, 255}, {36, 190, 242, 255}, {55, 255, 255, 152}, {62, 255, 255, 152},
+        {52, 255, 255, 152}, {66, 255, 255, 152}, {59, 255, 255, 152}, {63, 255, 255, 152},
+        {56, 255, 255, 152}, {60, 255, 255, 152}, {23, 123, 129, 255}, {22, 111, 136, 255},
+        {23, 132, 129, 255}, {18, 108, 124, 247}, {26, 111, 142, 255}, {19, 116, 122, 243}}},
+      {ColorClass::Orange,
+       {{17, 199, 255, 176},
+        {14, 198, 255, 176},
+        {16, 201, 255, 176},
+        {14, 207, 255, 176},
+        {16, 181, 255, 176},
+        {19, 183, 255, 176},
+        {16, 176, 255, 176},
+        {13, 174, 255, 176},
+        {15, 169, 255, 176}}}};
+  const ClassSamplePixels samples = withCarpetAndTop(filed);
+  ColorTableParams off;
+  off.clipped_cells_own = false;
+  const double brightest = 1.8;
+  const ColorTable table = ColorTable::buildFromSamplePixels(samples, {}, {}, brightest);
+  const ColorTable without = ColorTable::buildFromSamplePixels(samples, off, {}, brightest);
+  const int lamp = gainUnder(255.0 / 152);  // the samples' own lamp
+  for (const int b : {52, 55, 60, 63}) {
+    EXPECT_EQ(table.classify(b, 255, 255, 0, lamp), ColorClass::Yellow) << b;
+    EXPECT_EQ(without.classify(b, 255, 255, 0, lamp), ColorClass::Orange) << b;
+  }
+  expectEachSampleIsItsOwnClass(table, filed);
+}
+
 // Held-out seed 9019 of rand_uneven_lamps: two of the three yellow markers of the
 // calibration frame stood under the brightest lamp and read (69, 255, 255), red and green
 // both clipped, hue 60°; the third read (39, 192, 236), hue 47°, the print's. A robot in the

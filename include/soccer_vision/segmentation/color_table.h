@@ -153,6 +153,14 @@ struct ColorTableParams {
   // and green: hue 60°, its saturation falling with the light). Such colours claim their
   // cells (V normalised back) without shaping the Gaussian. false = off.
   bool clipped_twice_path = true;
+  // A cell that a class claims with a colour clipped twice (a sample, or that path) is
+  // decided among the classes that claim it so: such colours are in no Gaussian (they tell
+  // nothing of the hue), so another class's Gaussian won every contest for them. On
+  // held-out seed 9040 a yellow tag under the brightest lamp read (55, 255, 255), the very
+  // colour of the calibration frame's yellow samples under it, and the ball's Gaussian
+  // (its samples clipped in red, hue 42°) took it: two robots lost in 80 % of their frames
+  // (docs/segmentation.md). false = the Gaussians decide every contested cell.
+  bool clipped_cells_own = true;
   // Another print of a robot marker colour: a marker (SamplePixel::marker) of such a class
   // whose sample pixels are mostly outside the class's valid colours (its validity centre
   // follows the other markers) is printed in another shade. Its own valid pixels
