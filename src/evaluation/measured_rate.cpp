@@ -10,7 +10,7 @@ MeasuredRateCounter::MeasuredRateCounter(RobotBody body, double match_distance)
 
 void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camera,
                               const std::vector<RobotDetection>& detections,
-                              const std::vector<Eigen::Vector2d>& marker_regions, int camera_id,
+                              const std::vector<MarkerRegionCentre>& marker_regions, int camera_id,
                               const std::vector<RejectedRobotCandidate>& rejected) {
   for (const RobotRecord& robot : truth.robots) {
     if (!robot.visible.value_or(false)) continue;
@@ -46,8 +46,12 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
       miss(&MeasuredRate::wrong_id, "wrong_id");
       continue;
     }
-    bool segmented = false;
-    for (const Eigen::Vector2d& r : marker_regions) segmented = segmented || (r - pixel).norm() <= radius_px;
+    bool segmented = false, team_region = false;
+    for (const MarkerRegionCentre& r : marker_regions) {
+      if ((r.pixel - pixel).norm() > radius_px) continue;
+      segmented = true;
+      team_region = team_region || r.team;
+    }
     if (segmented) {
       // The rejected team region nearest the top's centre, on the top.
       const RejectedRobotCandidate* why = nullptr;
@@ -59,9 +63,15 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
       if (why) {
         total_.rejected_by_cause.add(why->cause);
         own.rejected_by_cause.add(why->cause);
+        miss(&MeasuredRate::identification_rejected, "identification_rejected",
+             rejectionCauseName(why->cause));
+      } else if (team_region) {
+        count(&MeasuredRate::team_region_used);
+        miss(&MeasuredRate::identification_rejected, "identification_rejected", "team_region_used");
+      } else {
+        count(&MeasuredRate::no_team_region);
+        miss(&MeasuredRate::identification_rejected, "identification_rejected", "no_team_region");
       }
-      miss(&MeasuredRate::identification_rejected, "identification_rejected",
-           why ? rejectionCauseName(why->cause) : "");
     } else
       miss(&MeasuredRate::nothing_segmented, "nothing_segmented");
   }

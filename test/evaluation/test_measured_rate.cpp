@@ -49,7 +49,8 @@ TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
                                                   detection(Team::Yellow, 3, -1.06, -2.0)};
   // A team marker 40 mm from yellow 2's centre; none near yellow 3 (the one 0.5 m away
   // is another robot's business).
-  const std::vector<Eigen::Vector2d> regions = {pixelOf(-3.0, -1.0, 0.04), pixelOf(-1.5, -2.0)};
+  const std::vector<MarkerRegionCentre> regions = {{pixelOf(-3.0, -1.0, 0.04), true},
+                                                   {pixelOf(-1.5, -2.0), true}};
   truth.stamp = 12.5;
   counter.add(truth, camera, detections, regions, 3);
 
@@ -76,7 +77,7 @@ TEST_F(MeasuredRateTest, EachRobotFallsIntoExactlyOneClass) {
 }
 
 // A rejected team region on the robot's top says why the robot was not measured; one on
-// another robot's top does not.
+// another robot's top does not. Without one: no team region there, or one taken elsewhere.
 TEST_F(MeasuredRateTest, ARejectedTeamRegionOnTheTopGivesTheMissItsCause) {
   FrameRecord truth;
   truth.robots = {robotRecord(Team::Yellow, 2, -3.0, -1.0), robotRecord(Team::Blue, 5, -2.0, 1.0)};
@@ -84,14 +85,23 @@ TEST_F(MeasuredRateTest, ARejectedTeamRegionOnTheTopGivesTheMissItsCause) {
   const Eigen::Vector2d elsewhere = pixelOf(-2.5, 1.0);
   const std::vector<RejectedRobotCandidate> rejected = {{on_yellow.x(), on_yellow.y(), RejectionCause::Area},
                                                         {elsewhere.x(), elsewhere.y(), RejectionCause::Gate}};
-  counter.add(truth, camera, {}, {on_yellow, near_blue}, 0, rejected);
+  // On blue 5's top an id marker only (its team marker read as another colour).
+  counter.add(truth, camera, {}, {{on_yellow, true}, {near_blue, false}}, 0, rejected);
   ASSERT_EQ(counter.misses().size(), 2u);
   EXPECT_STREQ(counter.misses()[0].rejection, "area");
   EXPECT_STREQ(counter.misses()[1].cause, "identification_rejected");
-  EXPECT_STREQ(counter.misses()[1].rejection, "") << "the gate rejection is 0.5 m away, not on blue 5";
+  EXPECT_STREQ(counter.misses()[1].rejection, "no_team_region") << "the gate rejection is 0.5 m away";
   EXPECT_EQ(counter.total().rejected_by_cause[RejectionCause::Area], 1);
   EXPECT_EQ(counter.total().rejected_by_cause.total(), 1);
+  EXPECT_EQ(counter.total().no_team_region, 1);
   EXPECT_EQ(counter.byRobot().at({Team::Yellow, 2}).rejected_by_cause[RejectionCause::Area], 1);
+  EXPECT_EQ(counter.byRobot().at({Team::Blue, 5}).no_team_region, 1);
+  // A team region there that identification did not reject went into a robot elsewhere.
+  counter.add(truth, camera, {}, {{on_yellow, true}, {near_blue, true}}, 0, rejected);
+  ASSERT_EQ(counter.misses().size(), 4u);
+  EXPECT_STREQ(counter.misses()[3].rejection, "team_region_used");
+  EXPECT_EQ(counter.total().team_region_used, 1);
+  EXPECT_EQ(counter.total().identification_rejected, 4);
 }
 
 TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {
@@ -115,7 +125,8 @@ TEST_F(MeasuredRateTest, RateAccumulatesOverFrames) {
 TEST_F(MeasuredRateTest, EachTeamsTopAtItsOwnHeight) {
   FrameRecord truth;
   truth.robots = {robotRecord(Team::Yellow, 1, -2.25, 2.6)};
-  const std::vector<Eigen::Vector2d> regions = {*camera.project(Eigen::Vector3d(-2.25, 2.6 - 0.08, 0.10))};
+  const std::vector<MarkerRegionCentre> regions = {
+      {*camera.project(Eigen::Vector3d(-2.25, 2.6 - 0.08, 0.10)), true}};
   RobotBody body;
   body.top_height = {0.15, 0.10};
   MeasuredRateCounter per_team(body);

@@ -4,8 +4,11 @@
 // why they were missed, in this order:
 //   wrong id:                 a detection within 50 mm, of another team or id;
 //   identification rejected:  a region of a marker colour lies on the robot's top in the
-//                             image, yet no detection came of it (why, when a rejected team
-//                             region lies there: the identification's cause);
+//                             image, yet no detection came of it. Why: the identification's
+//                             cause when a rejected team region lies there; else "no team
+//                             region" when none of a team colour does (its team marker read
+//                             as another colour), else "team region used" (a robot
+//                             elsewhere took it);
 //   nothing segmented:        not even a marker-coloured region there.
 #pragma once
 
@@ -29,6 +32,8 @@ struct MeasuredRate {
   std::int64_t wrong_id = 0;
   std::int64_t identification_rejected = 0;
   RejectionCounts rejected_by_cause;  // of identification_rejected: a rejected team region's cause
+  std::int64_t no_team_region = 0;    // of identification_rejected: no team-coloured region on its top
+  std::int64_t team_region_used = 0;  // of identification_rejected: one, not rejected, taken elsewhere
   std::int64_t nothing_segmented = 0;
   double rate() const { return visible > 0 ? static_cast<double>(measured) / visible : 1.0; }
 };
@@ -41,8 +46,16 @@ struct MissedRobot {
   int id = 0;
   const char* cause = "";       // "wrong_id", "identification_rejected" or "nothing_segmented"
   const char* rejection = "";   // identification_rejected: the cause of a rejected team region on
-                                // its top ("area", "unpaired", ...), "" when none was there
+                                // its top ("area", "unpaired", ...), else "no_team_region" or
+                                // "team_region_used"
   Eigen::Vector2d pixel{0, 0};  // its top's centre in the image
+};
+
+// A region of a robot marker colour, as the measured rate looks at it: its image centroid
+// and whether its colour is a team's.
+struct MarkerRegionCentre {
+  Eigen::Vector2d pixel{0, 0};
+  bool team = false;
 };
 
 struct RobotBody {
@@ -58,7 +71,7 @@ class MeasuredRateCounter {
   // detections, the image centroids of its regions of marker colours (team and id) and the
   // robot candidates identification rejected.
   void add(const FrameRecord& truth, const CameraModel& camera, const std::vector<RobotDetection>& detections,
-           const std::vector<Eigen::Vector2d>& marker_regions, int camera_id = 0,
+           const std::vector<MarkerRegionCentre>& marker_regions, int camera_id = 0,
            const std::vector<RejectedRobotCandidate>& rejected = {});
 
   const MeasuredRate& total() const { return total_; }

@@ -436,10 +436,11 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
           return;
         }
         s.evaluation.add(*truth, record);
-        std::vector<Eigen::Vector2d> marker_regions;
+        std::vector<sv::MarkerRegionCentre> marker_regions;
         for (const sv::Region& r : f.regions) {
           // The ball's colour is no robot's: a region of it is no hint of a robot.
-          if (sv::isRobotMarkerColor(r.color)) marker_regions.emplace_back(r.cx, r.cy);
+          if (sv::isRobotMarkerColor(r.color))
+            marker_regions.push_back({Eigen::Vector2d(r.cx, r.cy), sv::isTeamColor(r.color)});
         }
         s.measured.add(*truth, pc.model, f.detections.robots, marker_regions, camera.id,
                        f.detections.rejected_robots);
@@ -496,6 +497,8 @@ json scoreJson(const sv::RunEvaluation& e) {
 json measuredJson(const sv::MeasuredRate& m) {
   json by_cause = json::object();
   for (const auto& [name, count] : m.rejected_by_cause.named(true)) by_cause[name] = count;
+  if (m.no_team_region > 0) by_cause["no_team_region"] = m.no_team_region;
+  if (m.team_region_used > 0) by_cause["team_region_used"] = m.team_region_used;
   return {{"visible", m.visible},
           {"measured", m.measured},
           {"rate", m.rate()},
