@@ -16,16 +16,24 @@ namespace {
 constexpr int kMarkerMargin = 4;
 
 // The markers a class was sampled on: the connected patches (8-neighbours) of its sample
-// pixels, labelled from 1 over their bounding box. A stroke of the calibration UI is many
-// small polygons, one marker; two polygons on two markers do not touch.
-cv::Mat1i samplePatches(const std::vector<cv::Point>& positions) {
+// pixels. A stroke of the calibration UI is many small polygons, one marker; two polygons on
+// two markers do not touch. Per position its patch, numbered from 1, and how many there are.
+struct SamplePatches {
+  std::vector<int> of;
+  int count = 0;
+};
+
+SamplePatches samplePatches(const std::vector<cv::Point>& positions) {
   if (positions.empty()) return {};
   const cv::Rect box = cv::boundingRect(positions);
   cv::Mat1b mask = cv::Mat1b::zeros(box.size());
   for (const cv::Point& p : positions) mask(p - box.tl()) = 1;
   cv::Mat1i labels;
-  cv::connectedComponents(mask, labels, 8, CV_32S);
-  return labels;
+  SamplePatches patches;
+  patches.count = cv::connectedComponents(mask, labels, 8, CV_32S) - 1;  // label 0 is the rest
+  patches.of.reserve(positions.size());
+  for (const cv::Point& p : positions) patches.of.push_back(labels(p - box.tl()));
+  return patches;
 }
 
 }  // namespace
@@ -94,17 +102,14 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
     if (background_model) near_markers = cv::Mat1b::zeros(image.bgr.size());
     for (const auto& [cls, positions] : samplePixelPositions(image.bgr.size(), image.samples)) {
       auto& all = pixels[cls];
-      const cv::Mat1i patch = samplePatches(positions);
-      const cv::Rect box = positions.empty() ? cv::Rect() : cv::boundingRect(positions);
-      int patches = 0;
-      for (const cv::Point& p : positions) {
-        const int label = patch(p - box.tl());
+      const SamplePatches patches = samplePatches(positions);
+      for (std::size_t k = 0; k < positions.size(); ++k) {
+        const cv::Point& p = positions[k];
         all.push_back(filed(p.x, p.y));
-        all.back().marker = markers + static_cast<std::uint32_t>(label);
-        patches = std::max(patches, label);
+        all.back().marker = markers + static_cast<std::uint32_t>(patches.of[k]);
         if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
       }
-      markers += static_cast<std::uint32_t>(patches);
+      markers += static_cast<std::uint32_t>(patches.count);
     }
     if (!background_model || !image.unsampled_is_background) continue;
     cv::dilate(

@@ -67,10 +67,10 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
              rejectionCauseName(why->cause));
       } else if (team_region) {
         count(&MeasuredRate::team_region_used);
-        miss(&MeasuredRate::identification_rejected, "identification_rejected", "team_region_used");
+        miss(&MeasuredRate::identification_rejected, "identification_rejected", kTeamRegionUsed);
       } else {
         count(&MeasuredRate::no_team_region);
-        miss(&MeasuredRate::identification_rejected, "identification_rejected", "no_team_region");
+        miss(&MeasuredRate::identification_rejected, "identification_rejected", kNoTeamRegion);
       }
     } else
       miss(&MeasuredRate::nothing_segmented, "nothing_segmented");

@@ -113,7 +113,7 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
                  "a colour a robot marker sample shows clipped twice stays that class's (true/false)")
       ->capture_default_str();
   app.add_option("--other-prints", o.params.other_prints,
-                 "a robot marker polygon mostly outside its class's valid colours is another print of it "
+                 "a robot marker sampled mostly outside its class's valid colours is another print of it "
                  "(true/false)")
       ->capture_default_str();
   app.add_option("--lines-yield-to-markers", o.params.lines_yield_to_markers,

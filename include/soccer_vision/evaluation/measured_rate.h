@@ -26,6 +26,10 @@
 
 namespace soccer_vision {
 
+// The causes of an identification miss without a rejected team region on the top.
+constexpr const char* kNoTeamRegion = "no_team_region";
+constexpr const char* kTeamRegionUsed = "team_region_used";
+
 struct MeasuredRate {
   std::int64_t visible = 0;  // robot-frames: visible robots summed over camera frames
   std::int64_t measured = 0;

@@ -497,8 +497,8 @@ json scoreJson(const sv::RunEvaluation& e) {
 json measuredJson(const sv::MeasuredRate& m) {
   json by_cause = json::object();
   for (const auto& [name, count] : m.rejected_by_cause.named(true)) by_cause[name] = count;
-  if (m.no_team_region > 0) by_cause["no_team_region"] = m.no_team_region;
-  if (m.team_region_used > 0) by_cause["team_region_used"] = m.team_region_used;
+  if (m.no_team_region > 0) by_cause[sv::kNoTeamRegion] = m.no_team_region;
+  if (m.team_region_used > 0) by_cause[sv::kTeamRegionUsed] = m.team_region_used;
   return {{"visible", m.visible},
           {"measured", m.measured},
           {"rate", m.rate()},
