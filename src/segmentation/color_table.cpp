@@ -1014,7 +1014,6 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
 
     std::vector<Hsv> body_only;  // samples that claim their own cells but do not shape the Gaussian
     const SampleCentre centre = markerCentre(color, pixels, lab, hsv, st, body_only);
-    st.valid = static_cast<std::uint32_t>(std::count(centre.valid.begin(), centre.valid.end(), true));
     const bool marker = isRobotMarkerColor(color);
     PrintColours print = printColours(pixels, hsv, lab, centre.valid, marker, params, brightest_light);
     body_only.insert(body_only.end(), print.body_only.begin(), print.body_only.end());
@@ -1039,10 +1038,12 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     if (params.other_prints && marker)
       other_masks = otherPrints(pixels, lab, hsv, st.thresholds, centre.valid);
     std::vector<PrintColours> others;
+    std::vector<bool> valid_in_any = centre.valid;  // a pixel valid in two prints counts once
     for (const std::vector<bool>& mask : other_masks) {
-      st.valid += static_cast<std::uint32_t>(std::count(mask.begin(), mask.end(), true));
+      for (std::size_t i = 0; i < mask.size(); ++i) valid_in_any[i] = valid_in_any[i] || mask[i];
       others.push_back(printColours(pixels, hsv, lab, mask, marker, params, brightest_light));
     }
+    st.valid = static_cast<std::uint32_t>(std::count(valid_in_any.begin(), valid_in_any.end(), true));
 
     // The body: per HS cell, the V bins between its lowest and highest valid pixel.
     std::vector<const std::vector<Hsv>*> bodies = {&valid, &body_only};
