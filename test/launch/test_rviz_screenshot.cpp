@@ -6,15 +6,20 @@
 //
 // Private parameters: ~screenshot (PNG path, default /tmp/soccer_vision_rviz.png),
 // ~settle [s] after the first markers (default 8), ~min_pixels per team (default 200; measured ~450-1200 with
-// the markers, a few dozen without), ~patience [s] to look again while they are not drawn (default 30).
+// the markers, a few dozen without), ~patience [s] to look again while they are not drawn (default 30),
+// ~rviz_start [s] for rviz to finish its start-up (default 30).
 #include <cstdio>
+#include <signal.h>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <ros/master.h>
+#include <ros/network.h>
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 // Xlib last: it defines macros (None, Status) that clash with gtest's and ROS's names.
 #include <X11/Xlib.h>
@@ -45,6 +50,39 @@ cv::Mat grabScreen() {
   return out;
 }
 
+// The process id of a ROS node, asked over its XML-RPC server (which answers even while the
+// node's main thread is stuck), or 0.
+int nodePid(const std::string& node) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return 0;
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return 0;
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue request, response;
+  request[0] = ros::this_node::getName();
+  if (!client.execute("getPid", request, response) || response.getType() != XmlRpc::XmlRpcValue::TypeArray ||
+      response.size() != 3 || response[2].getType() != XmlRpc::XmlRpcValue::TypeInt)
+    return 0;
+  return static_cast<int>(response[2]);
+}
+
+// rviz advertises ~reload_shaders once its render window is up. In one CI run of 34 it hung in
+// Mesa's OpenGL start-up under load (its log ends at "Forcing OpenGl version 0") and drew
+// nothing: such an rviz is killed and roslaunch starts it again (respawn in rviz_demo.test),
+// twice at most. Returns whether rviz is up.
+bool waitForRviz(double seconds) {
+  for (int attempt = 0; attempt < 3 && ros::ok(); ++attempt) {
+    if (ros::service::waitForService("/rviz/reload_shaders", ros::Duration(seconds))) return true;
+    const int pid = nodePid("/rviz");
+    std::printf("[ rviz ] not up after %.0f s (pid %d): restarting it\n", seconds, pid);
+    if (pid > 0) kill(pid, SIGKILL);
+  }
+  return false;
+}
+
 }  // namespace
 
 TEST(RvizScreenshot, ShowsTheRobotsInTeamColours) {
@@ -56,6 +94,9 @@ TEST(RvizScreenshot, ShowsTheRobotsInTeamColours) {
   pnh.param("settle", settle, settle);
   pnh.param("min_pixels", min_pixels, min_pixels);
   ASSERT_NE(std::getenv("DISPLAY"), nullptr) << "no X display (scripts/test runs the tests under xvfb-run)";
+  double rviz_start = 30.0;
+  pnh.param("rviz_start", rviz_start, rviz_start);
+  ASSERT_TRUE(waitForRviz(rviz_start)) << "rviz did not start (no /rviz/reload_shaders)";
 
   std::size_t robots_in_markers = 0;
   ros::Subscriber sub = nh.subscribe<visualization_msgs::MarkerArray>(
