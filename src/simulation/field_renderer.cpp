@@ -678,16 +678,40 @@ bool FieldRenderer::robotVisible(const RobotState& robot) const {
   return true;
 }
 
-bool FieldRenderer::ballVisible(const BallState& ball) const {
+bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotState>& robots) const {
   const Impl& m = *impl_;
   const double r = kBallRadius;
+  const Eigen::Vector3d c(ball.x, ball.y, ball.z);
   for (const Eigen::Vector3d& offset :
        {Eigen::Vector3d(r, 0, 0), Eigen::Vector3d(-r, 0, 0), Eigen::Vector3d(0, r, 0),
         Eigen::Vector3d(0, -r, 0), Eigen::Vector3d(0, 0, r)}) {
-    const auto px = m.projectForBounds(Eigen::Vector3d(ball.x, ball.y, ball.z) + offset);
+    const auto px = m.projectForBounds(c + offset);
     if (!px || !m.camera.inImage(*px)) return false;
   }
-  return true;
+  // Seen by the camera: a ball beside a robot on its far side from the nadir lies behind the
+  // robot's body (a 150 mm robot 2 m from the nadir covers 75 mm beyond its footprint). The
+  // ball's image is sampled on the disc facing the camera; at least half of it must be seen.
+  const Eigen::Vector3d view = (m.centre - c).normalized();
+  const Eigen::Vector3d e1 = view.unitOrthogonal(), e2 = view.cross(e1);
+  int samples = 0, seen = 0;
+  for (int i = -2; i <= 2; ++i) {
+    for (int j = -2; j <= 2; ++j) {
+      if (i * i + j * j > 4) continue;
+      const Eigen::Vector3d p = c + (e1 * i + e2 * j) * (r / 2);
+      ++samples;
+      seen += std::none_of(robots.begin(), robots.end(), [&](const RobotState& robot) {
+        const double h = m.patterns.height(robot.team);
+        if (p.z() >= h) return false;
+        // The ray from p towards the camera inside the body's height band: from p up to z = h.
+        const Eigen::Vector3d q = p + (m.centre - p) * ((h - p.z()) / (m.centre.z() - p.z()));
+        const Eigen::Vector2d a = p.head<2>(), d = q.head<2>() - a, axis(robot.x, robot.y);
+        const double len2 = d.squaredNorm();
+        const double t = len2 > 0 ? std::clamp((axis - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+        return (a + t * d - axis).norm() < m.patterns.robot_radius;
+      });
+    }
+  }
+  return 2 * seen >= samples;
 }
 
 }  // namespace soccer_vision

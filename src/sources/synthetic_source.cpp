@@ -456,7 +456,7 @@ void SyntheticSource::renderInto(const SceneState& scene, std::int64_t index, cv
   robot_visible.clear();
   for (const RobotState& r : scene.robots) robot_visible.push_back(renderer_->robotVisible(r));
   ball_visible.clear();
-  for (const BallState& b : scene.balls) ball_visible.push_back(renderer_->ballVisible(b));
+  for (const BallState& b : scene.balls) ball_visible.push_back(renderer_->ballVisible(b, scene.robots));
 }
 
 // Forth and back over the rendered frames, by the absolute index: cameras sharing an epoch

@@ -104,7 +104,7 @@ void addMarkerColorsInView(const sv::SceneState& scene, const sv::FieldRenderer&
     for (const auto& m : patterns.markers(r.team, r.id)) colors.insert(m.color);
   }
   for (const auto& b : scene.balls) {
-    if (renderer.ballVisible(b)) colors.insert(sv::ColorClass::Orange);
+    if (renderer.ballVisible(b, scene.robots)) colors.insert(sv::ColorClass::Orange);
   }
 }
 
@@ -271,15 +271,16 @@ int run(const Options& o) {
       info.header = img.header;
       const auto robots = sv::toRobotPoseArray(
           scene, stamp, ch.id, [&](const sv::RobotState& r) { return ch.renderer->robotVisible(r); });
-      const auto balls = sv::toBallPoseArray(
-          scene, stamp, ch.id, [&](const sv::BallState& b) { return ch.renderer->ballVisible(b); });
+      const auto balls = sv::toBallPoseArray(scene, stamp, ch.id, [&](const sv::BallState& b) {
+        return ch.renderer->ballVisible(b, scene.robots);
+      });
       bag.write(ch.ns + "/image_raw", stamp, img);
       bag.write(ch.ns + "/camera_info", stamp, info);
       bag.write(ch.ns + "/ground_truth/robots", stamp, robots);
       bag.write(ch.ns + "/ground_truth/balls", stamp, balls);
       if (!balls.balls.empty()) bag.write(ch.ns + "/ground_truth/ball", stamp, balls.balls.front());
 
-      // One truth record per instant: an object is visible if any camera sees it whole.
+      // One truth record per instant: an object is visible if any camera sees it.
       const auto merged = sv::toFrameRecord(robots, balls);
       if (record.robots.empty() && record.balls.empty()) {
         record = merged;

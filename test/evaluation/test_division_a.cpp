@@ -79,8 +79,8 @@ LayoutRun runLayout(const std::string& preset, int frames) {
       BallRecord b;
       b.x = s.x;
       b.y = s.y;
-      b.visible =
-          std::any_of(renderers.begin(), renderers.end(), [&](const auto& r) { return r->ballVisible(s); });
+      b.visible = std::any_of(renderers.begin(), renderers.end(),
+                              [&](const auto& r) { return r->ballVisible(s, sim.state().robots); });
       truth.balls.push_back(b);
     }
     const FrameRecord record = toFrameRecord(last.output);

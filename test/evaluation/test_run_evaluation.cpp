@@ -194,7 +194,7 @@ Rendered render(const std::string& preset, int frames, cv::Size size = {}) {
       BallRecord b;
       b.x = s.x;
       b.y = s.y;
-      b.visible = renderer.ballVisible(s);
+      b.visible = renderer.ballVisible(s, sim.state().robots);
       t.balls.push_back(b);
     }
     r.truth.push_back(t);

@@ -40,7 +40,7 @@ CameraFrameDetections identifyHalf(const FieldGeometry& field, const FieldGeomet
   scenario.field = field.name;
   const FieldRenderer renderer(camera, field, patterns, scenario);
   for (const RobotState& r : scene.robots) EXPECT_TRUE(renderer.robotVisible(r)) << r.x;
-  EXPECT_TRUE(renderer.ballVisible(scene.balls[0]));
+  EXPECT_TRUE(renderer.ballVisible(scene.balls[0], scene.robots));
   RenderedFrame frame;
   renderer.render(scene, 0, frame);
   SampleOptions options;

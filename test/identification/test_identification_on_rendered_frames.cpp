@@ -182,7 +182,7 @@ Figures measure(const ScenarioConfig& scenario, int frames, double step_s, const
         fig.wrong_ids += wrong && !right;
       }
       for (const BallState& b : scene.balls) {
-        if (!renderers[c]->ballVisible(b)) continue;
+        if (!renderers[c]->ballVisible(b, scene.robots)) continue;
         ++fig.balls_visible;
         if (!det.balls.empty() && std::hypot(det.balls[0].x - b.x, det.balls[0].y - b.y) < 0.05) {
           ++fig.balls_found;

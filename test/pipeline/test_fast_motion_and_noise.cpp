@@ -219,7 +219,7 @@ TEST(BlurredCalibration, FastBallStreakIsFoundAtItsMidExposurePosition) {
     if (k % 3) continue;
     const BallState& truth = sim.state().balls.front();
     const double speed = std::hypot(truth.vx, truth.vy);
-    if (speed < 8.0 || !rig.renderer.ballVisible(truth)) continue;
+    if (speed < 8.0 || !rig.renderer.ballVisible(truth, sim.state().robots)) continue;
     const CameraFrameDetections d = rig.detectWhole(k);
     const BallState mid = extrapolate(sim.state(), shownTimeAfterStamp(rig.scenario.sensor)).balls.front();
     ++fast;
@@ -307,7 +307,8 @@ Score runPipeline(const std::string& name, int frames) {
     truth.stamp = s.time;
     for (const RobotState& r : s.robots)
       truth.robots.push_back({r.team, r.id, r.x, r.y, r.theta, rig.renderer.robotVisible(r), {}});
-    for (const BallState& b : s.balls) truth.balls.push_back({b.x, b.y, rig.renderer.ballVisible(b), {}});
+    for (const BallState& b : s.balls)
+      truth.balls.push_back({b.x, b.y, rig.renderer.ballVisible(b, s.robots), {}});
     total.add(scoreFrame(truth, toFrameRecord(out.output)));
   }
   std::printf(

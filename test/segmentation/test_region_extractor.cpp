@@ -674,7 +674,8 @@ void matchMarkers(const GameSimulator& sim, const RenderedField& rendered, const
     }
   }
   for (const BallState& ball : sim.state().balls) {
-    if (renderer.ballVisible(ball)) targets.push_back({ColorClass::Orange, {ball.x, ball.y, ball.z}, "ball"});
+    if (renderer.ballVisible(ball, sim.state().robots))
+      targets.push_back({ColorClass::Orange, {ball.x, ball.y, ball.z}, "ball"});
   }
   std::vector<int> matched(regions.size(), 0);
   for (const Target& t : targets) {

@@ -156,7 +156,7 @@ TEST(FieldRenderer, MarkersAndBallAppearWhereTheCameraProjectsThem) {
       }
     }
     const BallState& ball = scene.balls[0];
-    ASSERT_TRUE(renderer.ballVisible(ball));
+    ASSERT_TRUE(renderer.ballVisible(ball, scene.robots));
     const PaintMoments m = measureBall(image, c.camera, ball);
     const Eigen::Vector2d expected = *c.camera.project({ball.x, ball.y, ball.z});
     EXPECT_LT((m.centroid() - expected).norm(), c.tolerance_px)
@@ -430,4 +430,40 @@ TEST(FieldRenderer, JpegAndBlurChangeThePictureButKeepItsContent) {
   const Eigen::Vector2d centroid =
       measureMarker(blurred, camera, mid_exposure, role, ColorClass::Pink, 0.012).centroid();
   EXPECT_LT((centroid - *camera.project(onTop(mid_exposure, role.x, role.y))).norm(), 0.05);
+}
+
+// The truth's ball visibility is what the image shows: a ball beside a robot on the robot's
+// far side from the camera's nadir lies behind its body and is not visible (the labels show
+// less than half of it); beside it on the near side, or alone, it is.
+TEST(FieldRenderer, ABallBehindARobotIsNotVisible) {
+  const CameraModel camera = CameraModel::defaultCamera(kField, 0);
+  const PatternSet patterns = PatternSet::twoTag();
+  const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
+  const Eigen::Vector2d nadir = camera.cameraCentre().head<2>();
+  const Eigen::Vector2d robot_at = nadir + Eigen::Vector2d(-1.0, -1.7);  // 2 m from the nadir
+  const Eigen::Vector2d outwards = (robot_at - nadir).normalized();
+  const double touching = patterns.robot_radius + 0.0215 + 0.002;
+  struct Case {
+    Eigen::Vector2d ball;
+    bool visible;
+  };
+  for (const Case& c : {Case{robot_at + outwards * touching, false},
+                        Case{robot_at - outwards * touching, true}, Case{robot_at + outwards * 0.5, true}}) {
+    SceneState scene;
+    scene.robots = {robotState(Team::Blue, 2, robot_at.x(), robot_at.y(), 0.4)};
+    scene.balls.resize(1);
+    scene.balls[0].x = c.ball.x();
+    scene.balls[0].y = c.ball.y();
+    const cv::Mat labels = renderer.renderLabels(scene);
+    SceneState alone = scene;
+    alone.robots.clear();
+    const cv::Mat unoccluded = renderer.renderLabels(alone);
+    const double shown = cv::countNonZero(labels == static_cast<int>(ColorClass::Orange));
+    const double whole = cv::countNonZero(unoccluded == static_cast<int>(ColorClass::Orange));
+    ASSERT_GT(whole, 20);
+    EXPECT_EQ(renderer.ballVisible(scene.balls[0], scene.robots), c.visible)
+        << "ball at " << c.ball.transpose() << ": " << shown << " of " << whole << " px shown";
+    EXPECT_EQ(shown >= whole / 2, c.visible) << shown << " of " << whole << " px shown";
+    EXPECT_TRUE(renderer.ballVisible(scene.balls[0], {}));
+  }
 }

@@ -75,9 +75,10 @@ class FieldRenderer {
   // Encoding of the images render() produces.
   std::string encoding() const;
   const CameraModel& camera() const;
-  // Robot or ball fully in the image (all its markers / the whole ball).
+  // Robot fully in the image (all its markers).
   bool robotVisible(const RobotState& robot) const;
-  bool ballVisible(const BallState& ball) const;
+  // Ball fully in the image and at least half of its image not hidden behind `robots`.
+  bool ballVisible(const BallState& ball, const std::vector<RobotState>& robots) const;
 
  private:
   struct Impl;
