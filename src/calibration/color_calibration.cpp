@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <iterator>
+#include <map>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -137,6 +140,33 @@ std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const C
       lost.push_back(entry.first);
   }
   return lost;
+}
+
+std::vector<ColorClass> classesSampledClipped(const std::vector<CalibrationImage>& images) {
+  std::map<ColorClass, std::pair<std::size_t, std::size_t>> counts;  // clipped, all
+  for (const CalibrationImage& image : images) {
+    for (const auto& [color, pixels] : collectSamplePixels(image.bgr, image.samples)) {
+      if (!isMarkerColor(color)) continue;
+      auto& [clipped, all] = counts[color];
+      clipped += static_cast<std::size_t>(std::count_if(pixels.begin(), pixels.end(), clippedTwice));
+      all += pixels.size();
+    }
+  }
+  std::vector<ColorClass> out;
+  for (const auto& [color, n] : counts) {
+    if (2 * n.first > n.second) out.push_back(color);
+  }
+  return out;
+}
+
+std::string clippedSamplesWarning(const std::vector<ColorClass>& classes) {
+  if (classes.empty()) return {};
+  std::string names;
+  for (const ColorClass c : classes) names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
+  return "most sample pixels of " + names +
+         " are clipped in two channels: their colour under less light is unknown, so the table will "
+         "not see them where the light is dimmer. Sample them also where they are not saturated (in "
+         "less light), or lower the camera's exposure or gain.";
 }
 
 ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,

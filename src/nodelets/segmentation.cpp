@@ -789,6 +789,10 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     last_load_failed_ = false;  // a failed color_table file is not retried over this table
     res.success = true;
     res.message = summarizeTable(*table);
+    if (const std::string w = clippedSamplesWarning(classesSampledClipped(images)); !w.empty()) {
+      res.message += "; warning: " + w;
+      NODELET_WARN("~calibrate: %s", w.c_str());
+    }
     NODELET_INFO("%s: %s", source.c_str(), res.message.c_str());
   } catch (const std::exception& e) {
     res.message = std::string("calibration failed, previous table kept: ") + e.what();

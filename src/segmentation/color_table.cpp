@@ -301,13 +301,6 @@ double circularMeanDegrees(const std::vector<Hsv>& pixels) {
   return mean < 0 ? mean + 360.0 : mean;
 }
 
-// Whether two or three of a sample's channels are at the sensor's ceiling: such a sample
-// tells nothing of the ratio between them, so nothing of its hue (a yellow under a bright
-// lamp reads (69, 255, 255), hue 60°, where its print reads 47°).
-bool clippedTwice(const cv::Vec3b& p) {
-  return (p[0] >= kClipLevel) + (p[1] >= kClipLevel) + (p[2] >= kClipLevel) >= 2;
-}
-
 // Further up the same path the second channel clips too (ColorTableParams::clipped_twice_path):
 // a yellow whose red clips at 1.0 times the mean light has its green clipped from 1.3 on and
 // reads (53, 255, 255), then (64, 255, 255) at 1.56: hue 60° and a saturation that falls as
@@ -785,6 +778,10 @@ ClassStatistics readClassStatistics(ByteReader& r) {
 }
 
 }  // namespace
+
+bool clippedTwice(const cv::Vec3b& p) {
+  return (p[0] >= kClipLevel) + (p[1] >= kClipLevel) + (p[2] >= kClipLevel) >= 2;
+}
 
 std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
                                                                   const ColorSamples& samples) {

@@ -254,6 +254,8 @@ int main(int argc, char** argv) {
     std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(), inputs.front().bgr.cols,
                 inputs.front().bgr.rows);
     printStatistics(table);
+    if (const std::string w = sv::clippedSamplesWarning(sv::classesSampledClipped(inputs)); !w.empty())
+      std::printf("warning: %s\n", w.c_str());
     std::printf("written: %s\n", o.out.c_str());
     if (!o.preview.empty()) writePreview(o.preview, table, inputs.front().bgr);
   } catch (const std::exception& e) {

@@ -88,3 +88,25 @@ TEST(ColorCalibration, TwoTagsOfAColourInTwoShadesAreBothItsOwn) {
             one.statistics().classes[yellow].cells_assigned);
   EXPECT_EQ(yellowPixels(many, image, 40, 4), 72);
 }
+
+// Tags sampled only where they are clipped in two channels (held-out seed 9043's yellow at
+// (255, 255, 58)) are named, for calibrate_colors' and ~calibrate's warning; the same tags
+// sampled unclipped, a ball clipped in red alone, and white lines are not.
+TEST(ColorCalibration, MarkersSampledOnlyClippedAreNamed) {
+  cv::Mat3b image = fieldImage();
+  image(cv::Rect(4, 4, 12, 6)).setTo(cv::Vec3b(58, 255, 255));   // yellow, R and G clipped
+  image(cv::Rect(4, 30, 12, 6)).setTo(cv::Vec3b(14, 161, 255));  // orange, R clipped
+  image(cv::Rect(24, 20, 12, 6)).setTo(cv::Vec3b(255, 255, 255));
+  ColorSamples samples;
+  samples[ColorClass::Yellow] = {inside(4, 4)};
+  samples[ColorClass::Orange] = {inside(4, 30)};
+  samples[ColorClass::Line] = {inside(24, 20)};
+  const std::vector<ColorClass> clipped = classesSampledClipped({{image, samples}});
+  EXPECT_EQ(clipped, std::vector<ColorClass>{ColorClass::Yellow});
+  EXPECT_NE(clippedSamplesWarning(clipped).find("yellow"), std::string::npos);
+  EXPECT_EQ(clippedSamplesWarning({}), "");
+
+  // Sampled also on an unclipped tag (the other shade's patch): half clipped is not most.
+  samples[ColorClass::Yellow].push_back(inside(40, 4));
+  EXPECT_TRUE(classesSampledClipped({{image, samples}}).empty());
+}

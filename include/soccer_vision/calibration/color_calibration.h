@@ -5,6 +5,7 @@
 // changes against the calibration (illumination_adaptation.h).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -53,6 +54,14 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images,
 // cannot see that colour at all; ~calibrate refuses it.
 std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const ColorTable& table);
 
+// The marker classes (robot markers and the ball) more than half of whose sample pixels
+// are clipped in two channels (clippedTwice): their colour under less light is unknown,
+// and the table will not see them where the light is dimmer (held-out seed 9043,
+// rand_uneven_lamps: both yellow tags sampled at (255, 255, 58) under the brightest lamp;
+// a yellow tag under a dimmer one read (214, 161, 36) and was not seen in 127 frames).
+std::vector<ColorClass> classesSampledClipped(const std::vector<CalibrationImage>& images);
+// The warning for them, one text for calibrate_colors and ~calibrate; empty for none.
+std::string clippedSamplesWarning(const std::vector<ColorClass>& classes);
 // `fresh`, built from `samples` with paramsBesideKeptClasses, with every class `samples`
 // has no polygon for taken from `previous` (ColorTable::withClassesFrom): a user who paints
 // a few colours anew keeps the others instead of a table that no longer sees them. Throws

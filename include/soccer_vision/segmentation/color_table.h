@@ -59,6 +59,11 @@ std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image
 // Their colours in a CV_8UC3 BGR image. Throws std::invalid_argument for another type.
 ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples);
 
+// Whether two or three of a BGR pixel's channels are at the sensor's ceiling (250): such a
+// sample tells nothing of the ratio between them, so nothing of its hue (a yellow under a
+// bright lamp reads (69, 255, 255), hue 60°, where its print reads 47°).
+bool clippedTwice(const cv::Vec3b& bgr);
+
 struct ClassThresholds {
   double lab = 0;  // CIE76 distance to the class mean, strict upper bound
   double h = 0;    // circular hue distance to the class mean hue, degrees; > 180: no hue test
