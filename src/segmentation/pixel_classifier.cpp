@@ -822,26 +822,16 @@ SV_AVX512 inline __m512i labelsOf(const ClassLookup& lookup, const Colours& c, _
       _mm512_set1_epi32(0xFF));
 }
 
-// One step of scanRowAvx512: the n (<= 16) points from label x on whose lanes are in
-// `maybe`; `tested`: their V' band already passed rangeTest (rangeTestPairs).
-template <int Step>
-SV_AVX512 inline void scanStepAvx512(const ClassLookup& lookup, const LabelRow& row,
-                                     const RowAdjustment& adjusted, int y, int x, int n, int stride,
-                                     ClassMask classes, const __m512i (&ranges)[8], __mmask16 maybe,
-                                     bool tested, std::vector<cv::Point>& hits) {
-  const int span = Step * stride;
+// The points of one step (label x, x + stride, .., one per lane) whose lanes in `maybe`
+// passed the V' band test in registers: the tables decide them, and the hits are appended.
+SV_AVX512 inline void lookUpCandidates(const ClassLookup& lookup, const Colours& c, __m512i level,
+                                       __mmask16 maybe, int x, int y, int stride, ClassMask classes,
+                                       std::vector<cv::Point>& hits) {
   const bool markers_only = onlyMarkerClasses(classes);
-  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512i wanted = _mm512_set1_epi32(static_cast<int>(classes & 0xFFFF));
-  const Colours c = pickColours<Step>(row, x, n, span, spanIndex(span));
-  const __m512i lane_x =
-      _mm512_add_epi32(_mm512_set1_epi32(x), _mm512_mullo_epi32(lanes, _mm512_set1_epi32(stride)));
-  const __m512i level = adjustedLevels(c, laneAdjustment(adjusted, x, lane_x));
-  // Most points (carpet) end here, tested in registers without touching the tables.
-  if (!tested && markers_only) maybe = rangeTest(c, level, ranges, maybe);
   // The few that pass (~4 % of the carpet's points), by medium cell from a 4 KB table before
   // cubeBandTest's 512 KB one, which the frames between scans evict: ~1 in 6 remain.
-  if (markers_only && maybe) maybe = mediumRangeTest(lookup, c, level, maybe);
+  if (markers_only) maybe = mediumRangeTest(lookup, c, level, maybe);
   if (!maybe) return;
   const __m512i cube = cubeOf(c);
   const __mmask16 candidates =
@@ -855,6 +845,29 @@ SV_AVX512 inline void scanStepAvx512(const ClassLookup& lookup, const LabelRow& 
     hits.emplace_back(x + __builtin_ctz(found) * stride, y);
     found &= found - 1;
   }
+}
+
+// Lanes 16 * half .. 16 * half + 15 of 16-bit lanes, widened to 32 bits.
+SV_AVX512 inline __m512i widenHalf(__m512i words, int half) {
+  return _mm512_cvtepu16_epi32(half ? _mm512_extracti64x4_epi64(words, 1) : _mm512_castsi512_si256(words));
+}
+
+// One step of scanRowAvx512 on its own: the n (<= 16) points from label x on.
+template <int Step>
+SV_AVX512 inline void scanStepAvx512(const ClassLookup& lookup, const LabelRow& row,
+                                     const RowAdjustment& adjusted, int y, int x, int n, int stride,
+                                     ClassMask classes, const __m512i (&ranges)[8],
+                                     std::vector<cv::Point>& hits) {
+  const int span = Step * stride;
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const Colours c = pickColours<Step>(row, x, n, span, spanIndex(span));
+  const __m512i lane_x =
+      _mm512_add_epi32(_mm512_set1_epi32(x), _mm512_mullo_epi32(lanes, _mm512_set1_epi32(stride)));
+  const __m512i level = adjustedLevels(c, laneAdjustment(adjusted, x, lane_x));
+  // Most points (carpet) end here, tested in registers without touching the tables.
+  const __mmask16 maybe =
+      onlyMarkerClasses(classes) ? rangeTest(c, level, ranges, firstLanes(n)) : firstLanes(n);
+  if (maybe) lookUpCandidates(lookup, c, level, maybe, x, y, stride, classes, hits);
 }
 
 // scanRow, as many points at a time as lie in 128 bytes of each channel's row (at most 16).
@@ -888,21 +901,19 @@ SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, con
         s.x[1] = s.x[0] + per_step * stride;
         const Colours16 c = pickColourPairs<Step>(row, s, span, word_index, image_end);
         const __mmask32 live = firstLanes(s.n[0]) | static_cast<__mmask32>(firstLanes(s.n[1])) << 16;
-        const __mmask32 maybe =
-            rangeTestPairs(c, adjustedLevelPairs(c, adjusted, s.x[0], lane_x), ranges, live);
-        if (!maybe) continue;
+        const __m512i level = adjustedLevelPairs(c, adjusted, s.x[0], lane_x);
+        const __mmask32 maybe = rangeTestPairs(c, level, ranges, live);
         for (int h = 0; h < 2; ++h) {
           const auto half = static_cast<__mmask16>(maybe >> (16 * h));
-          if (half)
-            scanStepAvx512<Step>(lookup, row, adjusted, y, s.x[h], s.n[h], stride, classes, ranges, half,
-                                 true, hits);
+          if (!half) continue;
+          const Colours wide{widenHalf(c.b, h), widenHalf(c.g, h), widenHalf(c.r, h)};
+          lookUpCandidates(lookup, wide, widenHalf(level, h), half, s.x[h], y, stride, classes, hits);
         }
       }
     }
     for (; done < points; done += per_step) {
       const int n = std::min(per_step, points - done);
-      scanStepAvx512<Step>(lookup, row, adjusted, y, x0 + done * stride, n, stride, classes, ranges,
-                           firstLanes(n), false, hits);
+      scanStepAvx512<Step>(lookup, row, adjusted, y, x0 + done * stride, n, stride, classes, ranges, hits);
     }
   }
   const int rest = x0 + done * stride;
