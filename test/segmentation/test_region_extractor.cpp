@@ -612,9 +612,12 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 // 1.78x the frame's pixels, 47-61x a normal frame. The V' band tests (2026-12-05) made the
 // normal frame ~2x faster and the noise frame no dearer per pixel (its random colours miss
 // the caches at every lookup): 1.24x the frame's pixels, 94-106x a normal frame on a quiet
-// machine, 166x beside a build. So the time bound is loose and the pixel count, which does
-// not depend on the machine, is the tight one.
-TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
+// machine, 166x beside a build; with the faster scan of 2026-12-06 114-187x, and once 363x
+// under load. That ratio is printed, not asserted: the two frames suffer load differently.
+// The time is bounded against classifying every pixel of the noise frame once, which misses
+// the same caches (4.1-4.2x, stable under load); the pixel count, which does not depend on
+// the machine, is the tight bound.
+TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewWholeFrameLookups) {
   ScenarioConfig scenario;
   const FieldGeometry field;
   GameSimulator sim(scenario, field, patternSetByName(scenario.pattern).maxRobotsPerTeam());
@@ -634,17 +637,25 @@ TEST(RegionExtractorOnRenderedFrames, ColourNoiseCostsAtMostAFewNormalFrames) {
   const auto [normal_ms, noise_ms] =
       alternatingMedianMs([&] { extractor.extract(normal_frame, {}, regions, normal_stats); },
                           [&] { extractor.extract(noise_frame, {}, regions, noise_stats); }, 9);
+  // Every pixel of the noise frame looked up once, with the same random colours missing the
+  // same caches: the work the pixel bound below allows, timed against the extraction.
+  const auto model = SegmentationModel::fromTable(rendered.table);
+  const auto [whole_ms, noise_again_ms] =
+      alternatingMedianMs([&] { classifyAll(*model, noise, PixelLayout::Bgr); },
+                          [&] { extractor.extract(noise_frame, {}, regions, noise_stats); }, 5);
   std::printf(
       "[ noise ] normal frame %.2f ms (%u grid points, %u pixels classified); colour noise %.2f ms "
-      "(%u pixels classified, %zu regions): ratio %.2f\n",
+      "(%u pixels classified, %zu regions): ratio %.2f; every noise pixel classified once %.2f ms, "
+      "the noise frame's extraction %.2f times that\n",
       normal_ms, normal_stats.grid_points, normal_stats.classified_pixels, noise_ms,
-      noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms);
+      noise_stats.classified_pixels, regions.size(), noise_ms / normal_ms, whole_ms,
+      noise_again_ms / whole_ms);
   // The 2x2 opening leaves a few specks of chance 2x2 squares of one class (22 of 5-10 px
   // on this frame; the 3x3 opening left none): far fewer than the frame's markers and far
   // smaller (a role tag here is ~50 px, a team tag ~100 px).
   EXPECT_LE(regions.size(), noise.total() / 40000);
   for (const Region& r : regions) EXPECT_LE(r.area, 12u) << colorClassName(r.color);
-  EXPECT_LE(noise_ms, 250 * normal_ms);
+  EXPECT_LE(noise_again_ms, 8 * whole_ms);
   EXPECT_LE(noise_stats.classified_pixels, noise.total() * 2);
 }
 
