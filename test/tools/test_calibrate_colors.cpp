@@ -52,6 +52,7 @@ TEST_F(CalibrateColors, WritesTableStatisticsAndPreview) {
   for (const char* name : {"blue", "yellow", "pink", "orange", "carpet"})
     EXPECT_NE(r.output.find(std::string("\n") + name + " "), std::string::npos) << name;
   EXPECT_NE(r.output.find("decided by Bayes"), std::string::npos);
+  EXPECT_EQ(r.output.find("clipped"), std::string::npos) << "no sample is saturated here";
 
   const ColorTable table = ColorTable::load(out);
   const ColorSamples s = loadColorSamples(samples());
@@ -107,6 +108,25 @@ TEST_F(CalibrateColors, SeveralImagesOneSamplesFileAndOptions) {
   ASSERT_EQ(pairs.status, 0) << pairs.output;
   EXPECT_GT(ColorTable::load(kDir + "/pairs.svct").statistics().classes[blue].samples,
             one.statistics().classes[blue].samples);
+}
+
+// Yellow tags sampled only saturated (red and green at 255, as under the brightest lamp of
+// held-out seed 9043): the tool still writes the table and warns, naming yellow alone.
+TEST_F(CalibrateColors, SaturatedSamplesAreWarnedOf) {
+  cv::Mat bgr = cv::imread(image(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(bgr.empty());
+  const ColorSamples s = loadColorSamples(samples());
+  for (const auto& [cls, positions] : samplePixelPositions(bgr.size(), s)) {
+    if (cls != ColorClass::Yellow) continue;
+    for (const cv::Point& p : positions) bgr.at<cv::Vec3b>(p) = cv::Vec3b(58, 255, 255);
+  }
+  const std::string saturated = kDir + "/saturated.png";
+  ASSERT_TRUE(cv::imwrite(saturated, bgr));
+  const ToolRun r = run("--image " + saturated + " --samples " + samples() + " --out " + kDir + "/sat.svct");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::size_t at = r.output.find("warning: most sample pixels of yellow are clipped");
+  EXPECT_NE(at, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("clipped", at + 60), std::string::npos) << "only yellow is named: " << r.output;
 }
 
 // --light as-captured: the paper's table (no light levels, V as captured), --v-margin kept.
