@@ -568,29 +568,15 @@ SV_AVX512 inline __m512i adjustedLevels(const Colours& c, const LaneAdjustment& 
       _mm512_set1_epi32(255));
 }
 
-// The lanes' cells of a cube of (256 >> shift)³ cells: (b, g, r) >> shift packed b first.
-template <int shift>
-SV_AVX512 inline __m512i cubeCells(const Colours& c) {
-  constexpr int bits = 8 - shift;
-  return _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 2 * bits),
-                                         _mm512_slli_epi32(_mm512_srli_epi32(c.g, shift), bits)),
-                         _mm512_srli_epi32(c.r, shift));
-}
-
-// The lanes of `live` whose level's band lies within `range` (lowest band in bits 0-3,
-// highest in bits 4-7).
-SV_AVX512 inline __mmask16 bandWithin(__m512i range, __m512i level, __mmask16 live) {
-  const __m512i band = _mm512_srli_epi32(level, ClassLookup::kBandShift);
-  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi32(0x0F));
-  const __m512i highest = _mm512_and_si512(_mm512_srli_epi32(range, 4), _mm512_set1_epi32(0x0F));
-  return _mm512_mask_cmple_epi32_mask(_mm512_mask_cmpge_epi32_mask(live, band, lowest), band, highest);
-}
-
 // The lanes of `live` whose level's band lies within their coarse cell's marker range
 // (ClassLookup::coarse_marker_range, 512 bytes in eight registers).
 SV_AVX512 inline __mmask16 rangeTest(const Colours& c, __m512i level, const __m512i (&ranges)[8],
                                      __mmask16 live) {
-  const __m512i cell = cubeCells<ClassLookup::kCoarseShift>(c);
+  constexpr int shift = ClassLookup::kCoarseShift, bits = 8 - shift;
+  const __m512i cell =
+      _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 2 * bits),
+                                      _mm512_slli_epi32(_mm512_srli_epi32(c.g, shift), bits)),
+                      _mm512_srli_epi32(c.r, shift));
   // Byte `cell` of the 512: a byte permutation picks by the low 7 bits within a pair of
   // registers, the quarter (cell >> 7) chooses the pair.
   const __m512i quarter = _mm512_srli_epi32(cell, 7);
@@ -600,17 +586,27 @@ SV_AVX512 inline __mmask16 rangeTest(const Colours& c, __m512i level, const __m5
     range = _mm512_mask_mov_epi32(range, in_quarter,
                                   _mm512_permutex2var_epi8(ranges[2 * q], cell, ranges[2 * q + 1]));
   }
-  return bandWithin(range, level, live);
+  const __m512i band = _mm512_srli_epi32(level, ClassLookup::kBandShift);
+  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi32(0x0F));
+  const __m512i highest = _mm512_and_si512(_mm512_srli_epi32(range, 4), _mm512_set1_epi32(0x0F));
+  return _mm512_mask_cmple_epi32_mask(_mm512_mask_cmpge_epi32_mask(live, band, lowest), band, highest);
 }
 
 // The lanes of `may` whose level's band lies within their medium cell's marker range
 // (ClassLookup::medium_marker_range, padded for the 4-byte reads).
 SV_AVX512 inline __mmask16 mediumRangeTest(const ClassLookup& lookup, const Colours& c, __m512i level,
                                            __mmask16 may) {
-  const __m512i cell = cubeCells<ClassLookup::kMediumShift>(c);
+  constexpr int shift = ClassLookup::kMediumShift, bits = 8 - shift;
+  const __m512i cell =
+      _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 2 * bits),
+                                      _mm512_slli_epi32(_mm512_srli_epi32(c.g, shift), bits)),
+                      _mm512_srli_epi32(c.r, shift));
   const __m512i range =
       _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cell, lookup.medium_marker_range.data(), 1);
-  return bandWithin(range, level, may);
+  const __m512i band = _mm512_srli_epi32(level, ClassLookup::kBandShift);
+  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi32(0x0F));
+  const __m512i highest = _mm512_and_si512(_mm512_srli_epi32(range, 4), _mm512_set1_epi32(0x0F));
+  return _mm512_mask_cmple_epi32_mask(_mm512_mask_cmpge_epi32_mask(may, band, lowest), band, highest);
 }
 
 // The lanes of `may` whose cube takes a marker class in the 16-level band of their level
