@@ -612,7 +612,7 @@ std::pair<double, double> alternatingMedianMs(const std::function<void()>& a, co
 // 1.78x the frame's pixels, 47-61x a normal frame. The V' band tests (2026-12-05) made the
 // normal frame ~2x faster and the noise frame no dearer per pixel (its random colours miss
 // the caches at every lookup): 1.24x the frame's pixels, 94-106x a normal frame on a quiet
-// machine, 166x beside a build; with the faster scan of 2026-12-06 114-187x, and once 363x
+// machine, 166x beside a build; with a faster scan tried on 2026-12-06 114-187x, and once 363x
 // under load. That ratio is printed, not asserted: the two frames suffer load differently.
 // The time is bounded against classifying every pixel of the noise frame once, which misses
 // the same caches (4.1-4.2x, stable under load); the pixel count, which does not depend on
