@@ -704,10 +704,8 @@ bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotSt
         if (p.z() >= h) return false;
         // The ray from p towards the camera inside the body's height band: from p up to z = h.
         const Eigen::Vector3d q = p + (m.centre - p) * ((h - p.z()) / (m.centre.z() - p.z()));
-        const Eigen::Vector2d a = p.head<2>(), d = q.head<2>() - a, axis(robot.x, robot.y);
-        const double len2 = d.squaredNorm();
-        const double t = len2 > 0 ? std::clamp((axis - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-        return (a + t * d - axis).norm() < m.patterns.robot_radius;
+        return segmentDistance(Eigen::Vector2d(robot.x, robot.y), p.head<2>(), q.head<2>()) <
+               m.patterns.robot_radius;
       });
     }
   }
