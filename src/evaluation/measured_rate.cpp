@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace soccer_vision {
 
-MeasuredRateCounter::MeasuredRateCounter(RobotBody body, double match_distance)
-    : body_(body), match_distance_(match_distance) {}
+MeasuredRateCounter::MeasuredRateCounter(PatternSet patterns, double match_distance)
+    : patterns_(std::move(patterns)), match_distance_(match_distance) {}
 
 void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camera,
                               const std::vector<RobotDetection>& detections,
@@ -14,10 +15,17 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
                               const std::vector<RejectedRobotCandidate>& rejected) {
   for (const RobotRecord& robot : truth.robots) {
     if (!robot.visible.value_or(false)) continue;
-    // Whole in this camera's image: its top's rim projects inside (4 points suffice here).
+    // Shown by this camera: all its markers in the image (the truth's `visible` may be
+    // another camera's).
+    const auto in_image = [&](const Eigen::Vector3d& p) {
+      const auto px = camera.project(p);
+      return px && camera.inImage(*px);
+    };
+    const auto outline = markerOutlinePoints(patterns_, robot.team, robot.id, robot.x, robot.y, robot.theta);
+    if (!std::all_of(outline.begin(), outline.end(), in_image)) continue;
     const auto top =
-        projectDisc(camera, {robot.x, robot.y, heightOf(body_.top_height, robot.team)}, body_.radius);
-    if (!top || !top->whole) continue;
+        projectDisc(camera, {robot.x, robot.y, patterns_.height(robot.team)}, patterns_.robot_radius);
+    if (!top) continue;
     const Eigen::Vector2d& pixel = top->centre;
     const double radius_px = top->radius;
     MeasuredRate& own = by_robot_[{robot.team, robot.id}];

@@ -656,24 +656,10 @@ const CameraModel& FieldRenderer::camera() const { return impl_->camera; }
 
 bool FieldRenderer::robotVisible(const RobotState& robot) const {
   const Impl& m = *impl_;
-  const double h = m.patterns.height(robot.team);
-  const double c = std::cos(robot.theta), s = std::sin(robot.theta);
-  auto inside = [&](double lx, double ly) {
-    const auto px = m.projectForBounds({robot.x + c * lx - s * ly, robot.y + s * lx + c * ly, h});
-    return px && m.camera.inImage(*px);
-  };
-  for (const ColoredMarker& marker : m.patterns.markers(robot.team, robot.id)) {
-    const MarkerShape& shape = marker.shape;
-    if (shape.kind == MarkerShape::Kind::Rect) {
-      for (double sx : {-0.5, 0.5})
-        for (double sy : {-0.5, 0.5})
-          if (!inside(shape.x + sx * shape.size_x, shape.y + sy * shape.size_y)) return false;
-    } else {
-      for (int k = 0; k < 8; ++k)
-        if (!inside(shape.x + shape.radius * std::cos(k * M_PI / 4),
-                    shape.y + shape.radius * std::sin(k * M_PI / 4)))
-          return false;
-    }
+  for (const Eigen::Vector3d& p :
+       markerOutlinePoints(m.patterns, robot.team, robot.id, robot.x, robot.y, robot.theta)) {
+    const auto px = m.projectForBounds(p);
+    if (!px || !m.camera.inImage(*px)) return false;
   }
   return true;
 }

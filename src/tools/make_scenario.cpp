@@ -308,8 +308,7 @@ int run(const Options& o) {
       const bool first = &ch == &channels.front();
       if (!ch.calibration_written) {
         // The frame a user calibrates the colours on: polygons as drawn on it.
-        sv::SampleOptions drawn;
-        drawn.inset_px = o.sample_inset;
+        const sv::SampleOptions drawn = sv::SampleOptions::drawnByUser(o.sample_inset);
         sv::ColorSamples samples =
             sv::calibrationSamples(shown, ch.renderer->camera(), field, patterns, drawn);
         cv::Mat bgr = sv::bgrOfEncoding(rendered.image, img.encoding);

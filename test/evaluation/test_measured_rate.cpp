@@ -2,6 +2,8 @@
 // one detected under another id is a wrong id; one with only marker-coloured regions on
 // its top is an identification rejected; one with nothing there was not segmented; robots
 // not visible, or outside this camera's image, are not counted at all.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "soccer_vision/common/field_geometry.h"
@@ -127,11 +129,44 @@ TEST_F(MeasuredRateTest, EachTeamsTopAtItsOwnHeight) {
   truth.robots = {robotRecord(Team::Yellow, 1, -2.25, 2.6)};
   const std::vector<MarkerRegionCentre> regions = {
       {*camera.project(Eigen::Vector3d(-2.25, 2.6 - 0.08, 0.10)), true}};
-  RobotBody body;
-  body.top_height = {0.15, 0.10};
-  MeasuredRateCounter per_team(body);
+  PatternSet patterns = PatternSet::twoTag();
+  patterns.team_height[static_cast<std::size_t>(Team::Yellow)] = 0.10;
+  MeasuredRateCounter per_team(patterns);
   per_team.add(truth, camera, {}, regions);
   EXPECT_EQ(per_team.total().identification_rejected, 1);
   counter.add(truth, camera, {}, regions);  // 0.15 m for both teams
   EXPECT_EQ(counter.total().nothing_segmented, 1);
+}
+
+// The robots counted are those the ground truth calls visible in this image: all their
+// markers in it (markerOutlinePoints). A robot at the image's edge whose top's rim is cut
+// but whose markers are all in counts (seed 9045's blue 3 was left out, and missed in every
+// frame); one whose marker crosses the edge does not.
+TEST_F(MeasuredRateTest, ARobotCountsWhenAllItsMarkersAreInTheImage) {
+  const PatternSet patterns = PatternSet::twoTag();
+  const auto markers_in_image = [&](const RobotRecord& r) {
+    for (const Eigen::Vector3d& p : markerOutlinePoints(patterns, r.team, r.id, r.x, r.y, r.theta)) {
+      const auto px = camera.project(p);
+      if (!px || !camera.inImage(*px)) return false;
+    }
+    return true;
+  };
+  // Heading -y, towards the image's edge at +y its team tag (35 mm behind the centre), not
+  // its top's rim (90 mm): walked out until a marker leaves the image.
+  RobotRecord robot = robotRecord(Team::Blue, 3, -2.0, 2.5);
+  robot.theta = -M_PI / 2;
+  RobotRecord last_in = robot;
+  for (; robot.y < 4.0 && markers_in_image(robot); robot.y += 0.002) last_in = robot;
+  ASSERT_LT(robot.y, 4.0) << "no image edge found";
+  const auto top = projectDisc(camera, {last_in.x, last_in.y, 0.15}, patterns.robot_radius);
+  ASSERT_TRUE(top && !top->whole) << "the top's rim is in the image: not the case looked at";
+
+  FrameRecord truth;
+  truth.robots = {last_in};
+  counter.add(truth, camera, {}, {});
+  EXPECT_EQ(counter.total().visible, 1) << "all its markers are in the image";
+  EXPECT_EQ(counter.total().nothing_segmented, 1);
+  truth.robots = {robot};  // 2 mm farther: a marker's outline crosses the edge
+  counter.add(truth, camera, {}, {});
+  EXPECT_EQ(counter.total().visible, 1);
 }

@@ -86,8 +86,7 @@ class Hall {
         camera_(scenarioCamera(field_, 0, scenario)) {
     const FieldRenderer renderer(camera_, field_, patterns_, scenario_);
     layout_ = *pixelLayoutForEncoding(renderer.encoding());
-    SampleOptions drawn;
-    drawn.inset_px = 2;
+    const SampleOptions drawn = SampleOptions::drawnByUser(2);
     std::set<ColorClass> in_view;
     std::vector<SceneState> states;
     {

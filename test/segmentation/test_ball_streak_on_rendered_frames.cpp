@@ -36,8 +36,7 @@ TEST(BallStreakOnRenderedFrames, AKickedBallIsFoundInItsWindowAndNothingElseIs) 
   // One frame, polygons 2 px inside each marker where the frame shows them.
   RenderedFrame frame;
   renderer.render(sim.state(), 0, frame);
-  SampleOptions drawn;
-  drawn.inset_px = 2;
+  const SampleOptions drawn = SampleOptions::drawnByUser(2);
   const ColorSamples samples =
       calibrationSamples(extrapolate(sim.state(), shown), camera, field, patterns, drawn);
   ASSERT_FALSE(samples.at(ColorClass::Orange).empty());

@@ -138,8 +138,7 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario, const st
     layout = *pixelLayoutForEncoding(renderer.encoding());
     RenderedFrame frame;
     renderer.render(sim.state(), 0, frame);
-    SampleOptions drawn;
-    drawn.inset_px = 2;
+    const SampleOptions drawn = SampleOptions::drawnByUser(2);
     // Drawn where the frame shows the objects (mid-exposure when blurred), as a user draws them.
     const double shown = shownTimeAfterStamp(scenario.sensor);
     const ColorSamples samples =

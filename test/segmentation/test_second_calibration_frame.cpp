@@ -57,8 +57,7 @@ Outcome compare(const std::string& kind) {
   GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
   const FieldRenderer renderer(camera, field, patterns, scenario);
   EXPECT_EQ(renderer.encoding(), "bgr8");
-  SampleOptions drawn;
-  drawn.inset_px = 2;
+  const SampleOptions drawn = SampleOptions::drawnByUser(2);
   const int per_second = static_cast<int>(scenario.fps);
   int step = 0;
   auto frameAt = [&](int at_step) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "soccer_vision/common/color_class.h"
 
 namespace soccer_vision {
@@ -63,6 +65,13 @@ struct PatternSet {
 };
 
 // Parses a pattern YAML document; throws std::runtime_error with a clear message.
+// Points on the outlines of robot (team, id)'s markers in `field` (each rectangle's corners,
+// 8 points on each disc's rim) on its team's marker plane, the robot at (x, y) heading
+// `theta`. A robot is visible in an image when all of them are in it: what the ground
+// truth (FieldRenderer::robotVisible) and the measured rate count.
+std::vector<Eigen::Vector3d> markerOutlinePoints(const PatternSet& patterns, Team team, int id, double x,
+                                                 double y, double theta);
+
 PatternSet parsePatternSet(const std::string& yaml_text, const std::string& source_name);
 PatternSet loadPatternSet(const std::string& path);
 // "two_tag", "ssl", "team_only" (built in) or a path to a YAML file.

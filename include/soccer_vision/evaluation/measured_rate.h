@@ -1,7 +1,7 @@
-// The measured rate: of the robots a camera frame shows whole (ground truth visible and
-// inside that camera's image), the share the frame's own detections measure -- same team
-// and id within 50 mm -- as opposed to tracks coasting on predictions. The others by
-// why they were missed, in this order:
+// The measured rate: of the robots a camera frame shows (ground truth visible and all their
+// markers inside that camera's image, as the truth's visibility is defined: markerOutlinePoints), the share
+// the frame's own detections measure -- same team and id within 50 mm -- as opposed to tracks coasting on
+// predictions. The others by why they were missed, in this order:
 //   wrong id:                 a detection within 50 mm, of another team or id;
 //   identification rejected:  a region of a marker colour lies on the robot's top in the
 //                             image, yet no detection came of it. Why: the identification's
@@ -62,14 +62,10 @@ struct MarkerRegionCentre {
   bool team = false;
 };
 
-struct RobotBody {
-  TeamHeights top_height{0.15, 0.15};  // m: the marker plane per team
-  double radius = 0.09;                // m
-};
-
 class MeasuredRateCounter {
  public:
-  explicit MeasuredRateCounter(RobotBody body = {}, double match_distance = 0.05);
+  // `patterns`: the robots' markers, heights and radius.
+  explicit MeasuredRateCounter(PatternSet patterns = PatternSet::twoTag(), double match_distance = 0.05);
 
   // One processed camera frame: the truth at its stamp, the camera, the frame's own robot
   // detections, the image centroids of its regions of marker colours (team and id) and the
@@ -85,7 +81,7 @@ class MeasuredRateCounter {
   const std::vector<MissedRobot>& misses() const { return misses_; }
 
  private:
-  RobotBody body_;
+  PatternSet patterns_;
   double match_distance_;
   MeasuredRate total_;
   std::map<std::pair<Team, int>, MeasuredRate> by_robot_;

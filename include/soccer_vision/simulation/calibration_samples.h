@@ -21,8 +21,15 @@ struct SampleOptions {
   // twice that gets a 1 px stroke along its middle (a dot or the ball: its centre pixel); one under
   // 2 px across is skipped.
   double inset_px = 0.0;
-  double image_margin = 8.0;  // px; objects closer to the image border are skipped
+  double image_margin = 8.0;  // px; polygons closer to the image border are skipped
   int carpet_patches = 8;     // carpet squares to sample
+
+  // As a user draws them (the held-out protocol): polygons `inset_px` inside each marker.
+  static SampleOptions drawnByUser(double inset_px) {
+    SampleOptions o;
+    o.inset_px = inset_px;
+    return o;
+  }
 };
 
 // Polygons in raw pixel coordinates of `camera` for the scene at this instant.

@@ -399,10 +399,7 @@ struct Setup {
 RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLinesWriter* results) {
   sv::VisionPipeline pipeline(setup.cameras, setup.patterns, setup.field, params);
   RunStats s;
-  sv::RobotBody body;
-  body.top_height = setup.patterns.heights();
-  body.radius = setup.patterns.robot_radius;
-  s.measured = sv::MeasuredRateCounter(body);
+  s.measured = sv::MeasuredRateCounter(setup.patterns);
   std::vector<int> ids;
   for (const auto& c : setup.cameras) ids.push_back(c.id);
   setup.problems = {};
