@@ -58,6 +58,11 @@ struct ClassLookup {
   static constexpr int kCoarseShift = 5;
   static constexpr int kCoarseCells = 1 << (3 * (8 - kCoarseShift));
   std::uint8_t coarse_marker_range[kCoarseCells] = {};
+  // The same per medium cell (4 bits per channel: 4 KB, stays in L1/L2 between frames where
+  // cube_marker_bands does not): the AVX-512 scan's second test, before cubeBandTest.
+  static constexpr int kMediumShift = 4;
+  static constexpr int kMediumCells = 1 << (3 * (8 - kMediumShift));
+  std::vector<std::uint8_t> medium_marker_range;
 
   static std::size_t inCube(int b, int g, int r) {
     constexpr int low = (1 << kCubeShift) - 1;
@@ -67,6 +72,10 @@ struct ClassLookup {
     return (static_cast<std::size_t>(b >> kCubeShift) << (2 * kCubeBits)) |
            (static_cast<std::size_t>(g >> kCubeShift) << kCubeBits) |
            static_cast<std::size_t>(r >> kCubeShift);
+  }
+  static int mediumIndex(int b, int g, int r) {
+    constexpr int bits = 8 - kMediumShift;
+    return ((b >> kMediumShift) << (2 * bits)) | ((g >> kMediumShift) << bits) | (r >> kMediumShift);
   }
   static int coarseIndex(int b, int g, int r) {
     constexpr int bits = 8 - kCoarseShift;
@@ -185,6 +194,7 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   }
   std::uint16_t ids[ClassLookup::kCubeColors];
   std::vector<std::uint16_t> coarse_bands(ClassLookup::kCoarseCells);  // OR of their cubes' marker bands
+  std::vector<std::uint16_t> medium_bands(ClassLookup::kMediumCells);
   for (int cb = 0; cb < cubes_per_channel; ++cb) {
     for (int cg = 0; cg < cubes_per_channel; ++cg) {
       for (int cr = 0; cr < cubes_per_channel; ++cr) {
@@ -206,6 +216,7 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
         lookup->cube_classes[cube] = mask;
         lookup->cube_marker_bands[cube] = marker_bands;
         coarse_bands[ClassLookup::coarseIndex(b0, g0, r0)] |= marker_bands;
+        medium_bands[static_cast<std::size_t>(ClassLookup::mediumIndex(b0, g0, r0))] |= marker_bands;
         if (uniform) {
           lookup->cube_block[cube] = ids[0];
         } else {
@@ -219,6 +230,12 @@ std::shared_ptr<const ClassLookup> buildLookup(const ColorTable& table) {
   for (int cell = 0; cell < ClassLookup::kCoarseCells; ++cell) {
     const unsigned bands = coarse_bands[static_cast<std::size_t>(cell)];
     lookup->coarse_marker_range[cell] =
+        bands ? static_cast<std::uint8_t>(__builtin_ctz(bands) | (31 - __builtin_clz(bands)) << 4) : 0x0F;
+  }
+  lookup->medium_marker_range.resize(ClassLookup::kMediumCells + 3);  // padded for 4-byte gathers
+  for (int cell = 0; cell < ClassLookup::kMediumCells; ++cell) {
+    const unsigned bands = medium_bands[static_cast<std::size_t>(cell)];
+    lookup->medium_marker_range[static_cast<std::size_t>(cell)] =
         bands ? static_cast<std::uint8_t>(__builtin_ctz(bands) | (31 - __builtin_clz(bands)) << 4) : 0x0F;
   }
   // The AVX-512 scan gathers 4 bytes per entry: padding keeps the last entry's read inside.
@@ -503,6 +520,7 @@ void scanRow(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment
 // touching the tables.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's intrinsics headers
+#pragma GCC diagnostic ignored "-Wuninitialized"        // the same (their masked 16-bit loads)
 #define SV_AVX512 __attribute__((target("avx512f,avx512bw,avx512vl,avx512vbmi")))
 
 struct Colours {
@@ -550,15 +568,29 @@ SV_AVX512 inline __m512i adjustedLevels(const Colours& c, const LaneAdjustment& 
       _mm512_set1_epi32(255));
 }
 
+// The lanes' cells of a cube of (256 >> shift)³ cells: (b, g, r) >> shift packed b first.
+template <int shift>
+SV_AVX512 inline __m512i cubeCells(const Colours& c) {
+  constexpr int bits = 8 - shift;
+  return _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 2 * bits),
+                                         _mm512_slli_epi32(_mm512_srli_epi32(c.g, shift), bits)),
+                         _mm512_srli_epi32(c.r, shift));
+}
+
+// The lanes of `live` whose level's band lies within `range` (lowest band in bits 0-3,
+// highest in bits 4-7).
+SV_AVX512 inline __mmask16 bandWithin(__m512i range, __m512i level, __mmask16 live) {
+  const __m512i band = _mm512_srli_epi32(level, ClassLookup::kBandShift);
+  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi32(0x0F));
+  const __m512i highest = _mm512_and_si512(_mm512_srli_epi32(range, 4), _mm512_set1_epi32(0x0F));
+  return _mm512_mask_cmple_epi32_mask(_mm512_mask_cmpge_epi32_mask(live, band, lowest), band, highest);
+}
+
 // The lanes of `live` whose level's band lies within their coarse cell's marker range
 // (ClassLookup::coarse_marker_range, 512 bytes in eight registers).
 SV_AVX512 inline __mmask16 rangeTest(const Colours& c, __m512i level, const __m512i (&ranges)[8],
                                      __mmask16 live) {
-  constexpr int shift = ClassLookup::kCoarseShift, bits = 8 - shift;
-  const __m512i cell =
-      _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi32(_mm512_srli_epi32(c.b, shift), 2 * bits),
-                                      _mm512_slli_epi32(_mm512_srli_epi32(c.g, shift), bits)),
-                      _mm512_srli_epi32(c.r, shift));
+  const __m512i cell = cubeCells<ClassLookup::kCoarseShift>(c);
   // Byte `cell` of the 512: a byte permutation picks by the low 7 bits within a pair of
   // registers, the quarter (cell >> 7) chooses the pair.
   const __m512i quarter = _mm512_srli_epi32(cell, 7);
@@ -568,10 +600,17 @@ SV_AVX512 inline __mmask16 rangeTest(const Colours& c, __m512i level, const __m5
     range = _mm512_mask_mov_epi32(range, in_quarter,
                                   _mm512_permutex2var_epi8(ranges[2 * q], cell, ranges[2 * q + 1]));
   }
-  const __m512i band = _mm512_srli_epi32(level, ClassLookup::kBandShift);
-  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi32(0x0F));
-  const __m512i highest = _mm512_and_si512(_mm512_srli_epi32(range, 4), _mm512_set1_epi32(0x0F));
-  return _mm512_mask_cmple_epi32_mask(_mm512_mask_cmpge_epi32_mask(live, band, lowest), band, highest);
+  return bandWithin(range, level, live);
+}
+
+// The lanes of `may` whose level's band lies within their medium cell's marker range
+// (ClassLookup::medium_marker_range, padded for the 4-byte reads).
+SV_AVX512 inline __mmask16 mediumRangeTest(const ClassLookup& lookup, const Colours& c, __m512i level,
+                                           __mmask16 may) {
+  const __m512i cell = cubeCells<ClassLookup::kMediumShift>(c);
+  const __m512i range =
+      _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), may, cell, lookup.medium_marker_range.data(), 1);
+  return bandWithin(range, level, may);
 }
 
 // The lanes of `may` whose cube takes a marker class in the 16-level band of their level
@@ -638,6 +677,136 @@ SV_AVX512 inline Colours pickColours(const LabelRow& row, int x, int n, int span
   }
 }
 
+// ---- The scan's first test for two steps at once, one point per 16-bit lane (lanes 0..15
+// the first step's, 16..31 the second's): the V' band against coarse_marker_range, as
+// adjustedLevels and rangeTest decide it, in half their instructions per point. Most of the
+// full frame's points (carpet) end there.
+
+// Where a pair of steps lies: its first points' label x and their counts (n[1] may be 0).
+struct StepPair {
+  int x[2], n[2];
+};
+
+// Bytes 0 .. 127 from p on as two 64-byte registers. Plain loads where all 128 bytes lie
+// before the image's end (`end`: the bytes past the step's points are never picked), which
+// cost less than masked ones; masked (those bytes zero) at the image's end.
+struct Window {
+  __m512i low, high;
+};
+SV_AVX512 inline Window loadWindow(const std::uint8_t* p, TwoLoads loads, const std::uint8_t* end) {
+  if (end - p >= 128) return {_mm512_loadu_si512(p), _mm512_loadu_si512(p + 64)};
+  return {_mm512_maskz_loadu_epi8(loads.low, p), _mm512_maskz_loadu_epi8(loads.high, p + 64)};
+}
+
+// Byte `index` of each 16-bit lane, from the first window in lanes 0..15 and from the second
+// in 16..31; the high bytes zero.
+SV_AVX512 inline __m512i pickWords(const Window& first, const Window& second, __m512i index) {
+  constexpr __mmask64 kFirstLanes = 0x0000000055555555ULL, kSecondLanes = 0x5555555500000000ULL;
+  return _mm512_or_si512(_mm512_maskz_permutex2var_epi8(kFirstLanes, first.low, index, first.high),
+                         _mm512_maskz_permutex2var_epi8(kSecondLanes, second.low, index, second.high));
+}
+
+// The word index of points `span` bytes apart: lane j picks byte (j % 16) * span + `byte`.
+SV_AVX512 inline __m512i wordSpanIndex(int span, int byte) {
+  const __m512i lanes = _mm512_set_epi16(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 15, 14, 13, 12,
+                                         11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+  return _mm512_add_epi16(_mm512_mullo_epi16(lanes, _mm512_set1_epi16(static_cast<short>(span))),
+                          _mm512_set1_epi16(static_cast<short>(byte)));
+}
+
+struct Colours16 {
+  __m512i b, g, r;  // one point per 16-bit lane
+};
+
+// A channel's bytes (row `p`, Bayer) of each point of a pair of steps.
+SV_AVX512 inline __m512i pickChannelPairs(const std::uint8_t* p, int step_bytes, const StepPair& s,
+                                          const TwoLoads (&loads)[2], __m512i index,
+                                          const std::uint8_t* end) {
+  return pickWords(loadWindow(p + step_bytes * s.x[0], loads[0], end),
+                   loadWindow(p + step_bytes * s.x[1], loads[1], end), index);
+}
+
+// pickColours for a pair of steps; `index`: wordSpanIndex(span, 0); `end`: the image's end.
+template <int Step>
+SV_AVX512 inline Colours16 pickColourPairs(const LabelRow& row, const StepPair& s, int span, __m512i index,
+                                           const std::uint8_t* end) {
+  constexpr int kPointBytes = Step == 3 ? 3 : 1;
+  const TwoLoads loads[2] = {firstBytes((s.n[0] - 1) * span + kPointBytes),
+                             firstBytes(s.n[1] > 0 ? (s.n[1] - 1) * span + kPointBytes : 0)};
+  if constexpr (Step == 3) {
+    const std::uint8_t* base = std::min(row.b, std::min(row.g1, row.r));  // bgr8/rgb8: the pixel's first byte
+    const Window first = loadWindow(base + 3 * s.x[0], loads[0], end);
+    const Window second = loadWindow(base + 3 * s.x[1], loads[1], end);
+    return {pickWords(first, second,
+                      _mm512_add_epi16(index, _mm512_set1_epi16(static_cast<short>(row.b - base)))),
+            pickWords(first, second,
+                      _mm512_add_epi16(index, _mm512_set1_epi16(static_cast<short>(row.g1 - base)))),
+            pickWords(first, second,
+                      _mm512_add_epi16(index, _mm512_set1_epi16(static_cast<short>(row.r - base))))};
+  } else {
+    // (G1 + G2 + 1) >> 1, as the Bayer quads' green.
+    return {pickChannelPairs(row.b, 2, s, loads, index, end),
+            _mm512_avg_epu16(pickChannelPairs(row.g1, 2, s, loads, index, end),
+                             pickChannelPairs(row.g2, 2, s, loads, index, end)),
+            pickChannelPairs(row.r, 2, s, loads, index, end)};
+  }
+}
+
+// Whether the row's gains are below 2^15, the 16-bit V' (adjustedLevelPairs) needs.
+SV_AVX512 inline bool gainsFitInt16(const RowAdjustment& adjusted) {
+  __mmask32 above = 0;
+  for (int i = 0; i < adjusted.blocks; i += 32) {
+    const __mmask32 present =
+        adjusted.blocks - i >= 32 ? ~__mmask32(0) : (__mmask32(1) << (adjusted.blocks - i)) - 1;
+    above |= _mm512_cmpgt_epu16_mask(_mm512_maskz_loadu_epi16(present, adjusted.gains + i),
+                                     _mm512_set1_epi16(0x7FFF));
+  }
+  return above == 0;
+}
+
+// The adjusted levels V' of a pair of steps' colours from label x on; `lane_x`: each lane's
+// label x less x. (V * gain + 128) >> 8 is mulhrs(V << 7, gain) exactly
+// (gains below 2^15), and a saturating add of the offset clamps as the sum would.
+SV_AVX512 inline __m512i adjustedLevelPairs(const Colours16& c, const RowAdjustment& adjusted, int x,
+                                            __m512i lane_x) {
+  const int first = x >> adjusted.block_shift;
+  const int blocks = adjusted.blocks - first;
+  const __mmask32 present = blocks >= 32 ? ~__mmask32(0) : (__mmask32(1) << blocks) - 1;
+  const __m512i block = _mm512_srl_epi16(
+      _mm512_add_epi16(lane_x, _mm512_set1_epi16(static_cast<short>(x & ((1 << adjusted.block_shift) - 1)))),
+      _mm_cvtsi32_si128(adjusted.block_shift));
+  const __m512i gain =
+      _mm512_permutexvar_epi16(block, _mm512_maskz_loadu_epi16(present, adjusted.gains + first));
+  const __m512i offset =
+      _mm512_permutexvar_epi16(block, _mm512_maskz_loadu_epi16(present, adjusted.offsets + first));
+  const __m512i v = _mm512_max_epu16(_mm512_max_epu16(c.b, c.g), c.r);
+  const __m512i scaled = _mm512_mulhrs_epi16(_mm512_slli_epi16(v, 7), gain);
+  return _mm512_min_epi16(_mm512_max_epi16(_mm512_adds_epi16(scaled, offset), _mm512_setzero_si512()),
+                          _mm512_set1_epi16(255));
+}
+
+// rangeTest for a pair of steps.
+SV_AVX512 inline __mmask32 rangeTestPairs(const Colours16& c, __m512i level, const __m512i (&ranges)[8],
+                                          __mmask32 live) {
+  constexpr int shift = ClassLookup::kCoarseShift, bits = 8 - shift;
+  constexpr __mmask64 kLowBytes = 0x5555555555555555ULL;
+  const __m512i cell =
+      _mm512_or_si512(_mm512_or_si512(_mm512_slli_epi16(_mm512_srli_epi16(c.b, shift), 2 * bits),
+                                      _mm512_slli_epi16(_mm512_srli_epi16(c.g, shift), bits)),
+                      _mm512_srli_epi16(c.r, shift));
+  const __m512i quarter = _mm512_srli_epi16(cell, 7);
+  __m512i range = _mm512_maskz_permutex2var_epi8(kLowBytes, ranges[0], cell, ranges[1]);
+  for (int q = 1; q < 4; ++q) {
+    const __mmask32 in_quarter = _mm512_cmpeq_epi16_mask(quarter, _mm512_set1_epi16(static_cast<short>(q)));
+    range = _mm512_mask_mov_epi16(
+        range, in_quarter, _mm512_maskz_permutex2var_epi8(kLowBytes, ranges[2 * q], cell, ranges[2 * q + 1]));
+  }
+  const __m512i band = _mm512_srli_epi16(level, ClassLookup::kBandShift);
+  const __m512i lowest = _mm512_and_si512(range, _mm512_set1_epi16(0x0F));
+  const __m512i highest = _mm512_srli_epi16(range, 4);
+  return _mm512_mask_cmple_epu16_mask(_mm512_mask_cmpge_epu16_mask(live, band, lowest), band, highest);
+}
+
 // ClassLookup::classAt of the lanes of `may` (0 elsewhere): the three lookups as gathers
 // (the tables are padded for their 4-byte reads), V adjusted by each lane's block.
 SV_AVX512 inline __m512i labelsOf(const ClassLookup& lookup, const Colours& c, __m512i cube, __m512i level,
@@ -657,45 +826,98 @@ SV_AVX512 inline __m512i labelsOf(const ClassLookup& lookup, const Colours& c, _
       _mm512_set1_epi32(0xFF));
 }
 
+// The points of one step (label x, x + stride, .., one per lane) whose lanes in `maybe`
+// passed the V' band test in registers: the tables decide them, and the hits are appended.
+SV_AVX512 inline void lookUpCandidates(const ClassLookup& lookup, const Colours& c, __m512i level,
+                                       __mmask16 maybe, int x, int y, int stride, ClassMask classes,
+                                       std::vector<cv::Point>& hits) {
+  const bool markers_only = onlyMarkerClasses(classes);
+  const __m512i wanted = _mm512_set1_epi32(static_cast<int>(classes & 0xFFFF));
+  // The few that pass (~4 % of the carpet's points), by medium cell from a 4 KB table before
+  // cubeBandTest's 512 KB one, which the frames between scans evict: ~1 in 6 remain.
+  if (markers_only) maybe = mediumRangeTest(lookup, c, level, maybe);
+  if (!maybe) return;
+  const __m512i cube = cubeOf(c);
+  const __mmask16 candidates =
+      markers_only ? cubeBandTest(lookup, cube, level, maybe) : cubeClassTest(lookup, cube, wanted, maybe);
+  if (!candidates) return;
+  // The lookup proper in registers too (one scalar lookup per point was dearer).
+  const __m512i label = labelsOf(lookup, c, cube, level, candidates);
+  unsigned found =
+      _mm512_mask_test_epi32_mask(candidates, _mm512_sllv_epi32(_mm512_set1_epi32(1), label), wanted);
+  while (found) {
+    hits.emplace_back(x + __builtin_ctz(found) * stride, y);
+    found &= found - 1;
+  }
+}
+
+// Lanes 16 * half .. 16 * half + 15 of 16-bit lanes, widened to 32 bits.
+SV_AVX512 inline __m512i widenHalf(__m512i words, int half) {
+  return _mm512_cvtepu16_epi32(half ? _mm512_extracti64x4_epi64(words, 1) : _mm512_castsi512_si256(words));
+}
+
+// One step of scanRowAvx512 on its own: the n (<= 16) points from label x on.
+template <int Step>
+SV_AVX512 inline void scanStepAvx512(const ClassLookup& lookup, const LabelRow& row,
+                                     const RowAdjustment& adjusted, int y, int x, int n, int stride,
+                                     ClassMask classes, const __m512i (&ranges)[8],
+                                     std::vector<cv::Point>& hits) {
+  const int span = Step * stride;
+  const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const Colours c = pickColours<Step>(row, x, n, span, spanIndex(span));
+  const __m512i lane_x =
+      _mm512_add_epi32(_mm512_set1_epi32(x), _mm512_mullo_epi32(lanes, _mm512_set1_epi32(stride)));
+  const __m512i level = adjustedLevels(c, laneAdjustment(adjusted, x, lane_x));
+  // Most points (carpet) end here, tested in registers without touching the tables.
+  const __mmask16 maybe =
+      onlyMarkerClasses(classes) ? rangeTest(c, level, ranges, firstLanes(n)) : firstLanes(n);
+  if (maybe) lookUpCandidates(lookup, c, level, maybe, x, y, stride, classes, hits);
+}
+
 // scanRow, as many points at a time as lie in 128 bytes of each channel's row (at most 16).
 template <int Step>
 SV_AVX512 void scanRowAvx512(const ClassLookup& lookup, const LabelRow& row, const RowAdjustment& adjusted,
                              int y, int x0, int x1, int stride, ClassMask classes,
-                             std::vector<cv::Point>& hits) {
+                             const std::uint8_t* image_end, std::vector<cv::Point>& hits) {
   const int span = Step * stride;  // bytes from one point to the next
   constexpr int kPointBytes = Step == 3 ? 3 : 1;
   const int per_step = std::min(16, (128 - kPointBytes) / span + 1);
   const int points = (x1 - x0 + stride - 1) / stride;
   int done = 0;
   if (per_step >= 4) {
-    const __m512i index = spanIndex(span);
-    const __m512i wanted = _mm512_set1_epi32(static_cast<int>(classes & 0xFFFF));
-    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const __m512i one = _mm512_set1_epi32(1);
-    const __m512i lane_step = _mm512_mullo_epi32(lanes, _mm512_set1_epi32(stride));
     const bool markers_only = onlyMarkerClasses(classes);
     __m512i ranges[8];
     for (int k = 0; k < 8; ++k) ranges[k] = _mm512_loadu_si512(lookup.coarse_marker_range + 64 * k);
+    if (markers_only && gainsFitInt16(adjusted)) {
+      const __m512i word_index = wordSpanIndex(span, 0);
+      // Each lane's x less the pair's first: lanes 16..31 continue from per_step points on.
+      const __m512i lane_x = _mm512_mullo_epi16(
+          _mm512_set_epi16(per_step + 15, per_step + 14, per_step + 13, per_step + 12, per_step + 11,
+                           per_step + 10, per_step + 9, per_step + 8, per_step + 7, per_step + 6,
+                           per_step + 5, per_step + 4, per_step + 3, per_step + 2, per_step + 1, per_step, 15,
+                           14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0),
+          _mm512_set1_epi16(static_cast<short>(stride)));
+      for (; done < points; done += 2 * per_step) {
+        StepPair s;
+        s.n[0] = std::min(per_step, points - done);
+        s.n[1] = std::min(per_step, points - done - s.n[0]);
+        s.x[0] = x0 + done * stride;
+        s.x[1] = s.x[0] + per_step * stride;
+        const Colours16 c = pickColourPairs<Step>(row, s, span, word_index, image_end);
+        const __mmask32 live = firstLanes(s.n[0]) | static_cast<__mmask32>(firstLanes(s.n[1])) << 16;
+        const __m512i level = adjustedLevelPairs(c, adjusted, s.x[0], lane_x);
+        const __mmask32 maybe = rangeTestPairs(c, level, ranges, live);
+        for (int h = 0; h < 2; ++h) {
+          const auto half = static_cast<__mmask16>(maybe >> (16 * h));
+          if (!half) continue;
+          const Colours wide{widenHalf(c.b, h), widenHalf(c.g, h), widenHalf(c.r, h)};
+          lookUpCandidates(lookup, wide, widenHalf(level, h), half, s.x[h], y, stride, classes, hits);
+        }
+      }
+    }
     for (; done < points; done += per_step) {
       const int n = std::min(per_step, points - done);
-      const int x = x0 + done * stride;
-      const Colours c = pickColours<Step>(row, x, n, span, index);
-      const __m512i level =
-          adjustedLevels(c, laneAdjustment(adjusted, x, _mm512_add_epi32(_mm512_set1_epi32(x), lane_step)));
-      // Most points (carpet) end here, tested in registers without touching the tables.
-      const __mmask16 maybe = markers_only ? rangeTest(c, level, ranges, firstLanes(n)) : firstLanes(n);
-      if (!maybe) continue;
-      const __m512i cube = cubeOf(c);
-      const __mmask16 candidates = markers_only ? cubeBandTest(lookup, cube, level, maybe)
-                                                : cubeClassTest(lookup, cube, wanted, maybe);
-      if (!candidates) continue;
-      // The lookup proper in registers too (one scalar lookup per point was dearer).
-      const __m512i label = labelsOf(lookup, c, cube, level, candidates);
-      unsigned found = _mm512_mask_test_epi32_mask(candidates, _mm512_sllv_epi32(one, label), wanted);
-      while (found) {
-        hits.emplace_back(x + __builtin_ctz(found) * stride, y);
-        found &= found - 1;
-      }
+      scanStepAvx512<Step>(lookup, row, adjusted, y, x0 + done * stride, n, stride, classes, ranges, hits);
     }
   }
   const int rest = x0 + done * stride;
@@ -855,8 +1077,8 @@ void FrameClassifier::scanRowPoints(int y, int x0, int x1, int step, ClassMask c
   if (y + step < label_size_.height) prefetchLabelRow(image_, layout_, y + step, x0, x1);
 #ifdef SV_HAVE_AVX512_KERNELS
   if (detail::useAvx512Kernels()) {
-    row.step == 3 ? scanRowAvx512<3>(lookup, row, adjusted, y, x0, x1, step, classes, hits)
-                  : scanRowAvx512<2>(lookup, row, adjusted, y, x0, x1, step, classes, hits);
+    row.step == 3 ? scanRowAvx512<3>(lookup, row, adjusted, y, x0, x1, step, classes, image_.dataend, hits)
+                  : scanRowAvx512<2>(lookup, row, adjusted, y, x0, x1, step, classes, image_.dataend, hits);
     return;
   }
 #endif

@@ -427,6 +427,41 @@ TEST_P(ScanKernels, ScanGridReturnsExactlyTheStridePointsOfTheWantedClasses) {
   }
 }
 
+// The scan's V' at the limits of its 16-bit arithmetic: gains from 2^15 on (block rows of
+// those take the 32-bit path) and up to 2^15 - 1, offsets that overflow 16 bits when added.
+TEST_P(ScanKernels, ScanGridEqualsTheLabelsWithExtremeGainsAndOffsets) {
+  const World& w = world();
+  BlockOffsets offsets = patternedOffsets(w.frame.size());
+  for (int i = 0; i < offsets.gains.rows; ++i) {
+    for (int j = 0; j < offsets.gains.cols; ++j) {
+      const int kind = (i + 2 * j) % 5;
+      if (kind == 1) offsets.gains.at<std::uint16_t>(i, j) = i % 2 ? 40000 : 32767;
+      if (kind == 2) offsets.offsets.at<std::int16_t>(i, j) = 32767;
+      if (kind == 3) offsets.offsets.at<std::int16_t>(i, j) = -32768;
+      if (kind == 4) offsets.gains.at<std::uint16_t>(i, j) = 1;
+    }
+  }
+  std::size_t found = 0;
+  for (const auto& [image, layout] :
+       {std::pair{w.frame, PixelLayout::Bgr}, {mosaic(w.frame, "rggb"), PixelLayout::BayerRggb}}) {
+    const FrameClassifier fc(*w.classifier, image, layout, offsets);
+    const cv::Mat1b labels = classifyAll(fc);
+    const cv::Size size = fc.labelSize();
+    for (int stride : {1, 2, 3}) {
+      std::vector<cv::Point> expected, hits;
+      for (int y = 0; y < size.height; y += stride) {
+        for (int x = 0; x < size.width; x += stride) {
+          if (markerClassMask() & (ClassMask(1) << labels(y, x))) expected.emplace_back(x, y);
+        }
+      }
+      fc.scanGrid(cv::Rect(cv::Point(0, 0), size), stride, markerClassMask(), hits);
+      EXPECT_EQ(hits, expected) << "stride " << stride << " layout " << static_cast<int>(layout);
+      found += expected.size();
+    }
+  }
+  EXPECT_GT(found, 50u);  // markers remain to be found under these blocks
+}
+
 // classify's kernels against classifyPixel (the scalar definition) on rects of every
 // width up to 40 and odd offsets (tails of the 16-pixel steps, rects across blocks).
 TEST_P(ScanKernels, ClassifyEqualsClassifyPixelOnEveryRect) {
