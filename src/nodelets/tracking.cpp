@@ -97,7 +97,8 @@ class TrackingNodelet : public nodelet::Nodelet {
   std::uint64_t frames_ = 0, window_frames_ = 0, global_frames_ = 0, windowed_frames_ = 0;
   std::uint64_t no_camera_model_ = 0, results_errors_ = 0, camera_info_refused_ = 0;
   std::uint64_t withheld_robots_ = 0, withheld_balls_ = 0;  // outputs of too uncertain coasting tracks
-  StampJumpGate tf_gate_;                                   // tf only for stamps on a confirmed time line
+  std::uint64_t unconfirmed_balls_ = 0;  // outputs of ball tracks begun outside the playing area
+  StampJumpGate tf_gate_;                // tf only for stamps on a confirmed time line
 };
 
 void TrackingNodelet::onInit() {
@@ -302,6 +303,7 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     out = tracker_.output(frame.stamp);
     withheld_robots_ += out.withheld_robots;
     withheld_balls_ += out.withheld_balls;
+    unconfirmed_balls_ += out.unconfirmed_balls;
     *robots = toRobotPoseArray(out, header);
     *balls = toBallPoseArray(out, header);
     appendGameMarkers(*robots, *balls, marker_style_, *markers);
@@ -419,6 +421,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("ball tracks replaced (parked outside the lines)", s.balls_replaced);
   stat.add("robots withheld (coasting, too uncertain)", withheld_robots_);
   stat.add("balls withheld (coasting, too uncertain)", withheld_balls_);
+  stat.add("balls withheld (begun outside the playing area, not yet confirmed)", unconfirmed_balls_);
   stat.add("frames searched whole", global_frames_);
   stat.add("frames searched in windows", windowed_frames_);
   stat.add("windows without camera model", no_camera_model_);

@@ -58,6 +58,8 @@ void validate(const TrackerParams& p) {
   positive(p.ball_still_distance, "ball_still_distance");
   if (!(p.out_of_play_kick_window >= 0))
     throw std::invalid_argument("tracker: out_of_play_kick_window must be >= 0");
+  if (p.ball_confirm_outside < 1) throw std::invalid_argument("tracker: ball_confirm_outside must be >= 1");
+  positive(p.ball_confirm_within, "ball_confirm_within");
   auto offset = [](double v, const std::string& name) {
     if (!(std::abs(v) <= 0.1)) {
       throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " +
@@ -422,6 +424,10 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, Tracke
 
 bool Tracker::inPlay(const BallDetection& d) const { return !p_.field || p_.field->inPlayingArea(d.x, d.y); }
 
+bool Tracker::confirmed(const BallTrack& t) const {
+  return t.hits >= p_.ball_confirm_outside || !p_.field || p_.field->inPlayingArea(t.start.x(), t.start.y());
+}
+
 bool Tracker::parked(const BallTrack& t) const {
   if (!p_.field || t.travel > p_.ball_still_distance) return false;
   const auto& s = t.filter.state();
@@ -436,7 +442,7 @@ void Tracker::dropLost(TrackerUpdateReport& report) {
   report.tracks_lost += static_cast<int>(robots_.end() - robot_end);
   robots_.erase(robot_end, robots_.end());
   const auto ball_end = std::remove_if(balls_.begin(), balls_.end(), [&](const BallTrack& t) {
-    return now - t.last_time > p_.ball_lost_timeout;
+    return now - t.last_time > (confirmed(t) ? p_.ball_lost_timeout : p_.ball_confirm_within);
   });
   report.tracks_lost += static_cast<int>(balls_.end() - ball_end);
   balls_.erase(ball_end, balls_.end());
@@ -545,6 +551,10 @@ TrackerOutput Tracker::tracksAt(double stamp, bool withhold_uncertain) const {
     b.visible = t.last_measured >= stamp - p_.visible_window;
     b.last_measured = t.last_measured;
     b.position_covariance = P.topLeftCorner<2, 2>();
+    if (withhold_uncertain && !confirmed(t)) {  // output() only: the windows still look for it
+      ++out.unconfirmed_balls;
+      continue;
+    }
     if (withhold_uncertain && tooUncertain(b.visible, b.position_covariance)) {
       ++out.withheld_balls;
       continue;

@@ -517,3 +517,48 @@ TEST(Tracker, AMisreadIdOnATrackedRobotIsThatRobot) {
   bad.misread_recent = 0;
   EXPECT_THROW(validate(bad), std::invalid_argument);
 }
+
+// A ball track begun outside the playing area is output once measured twice: a single
+// frame's orange fleck at the carpet's edge (held-out seed 9044: a cable's tip, while the
+// real ball was out of view) is never the ball. One begun inside is output at once.
+TEST(Tracker, ABallFirstSeenOutsideThePlayingAreaIsOutputOnceSeenAgain) {
+  TrackerParams params;
+  params.field = FieldGeometry{};
+  Tracker tracker(params);
+  const BallDetection fleck = ball(-1.82, -3.31, 0.37);  // 0.31 m beyond the touch line
+  tracker.update(frame(kT0, 0, {}, {fleck}));
+  TrackerOutput out = tracker.output();
+  EXPECT_TRUE(out.balls.empty());
+  EXPECT_EQ(out.unconfirmed_balls, 1);
+  EXPECT_EQ(tracker.predictions(kT0).balls.size(), 1u) << "the windows still look for it";
+  tracker.update(frame(kT0 + kDt, 0, {}, {}));
+  EXPECT_TRUE(tracker.output().balls.empty());
+  // Seen again: a ball put down beside the field, output from its second frame.
+  tracker.update(frame(kT0 + 2 * kDt, 0, {}, {fleck}));
+  out = tracker.output();
+  ASSERT_NE(out.primaryBall(), nullptr);
+  EXPECT_NEAR(out.primaryBall()->x, -1.82, 1e-3);
+  EXPECT_EQ(out.unconfirmed_balls, 0);
+
+  // The same fleck again 18 frames later (the recording's next one): a new track, not the
+  // confirmation of the first, which is gone after 0.05 s.
+  Tracker later(params);
+  later.update(frame(kT0, 0, {}, {fleck}));
+  for (int k = 1; k < 18; ++k) later.update(frame(kT0 + k * kDt, 0, {}, {}));
+  later.update(frame(kT0 + 18 * kDt, 0, {}, {fleck}));
+  EXPECT_TRUE(later.output().balls.empty());
+  EXPECT_EQ(later.output().unconfirmed_balls, 1);
+
+  Tracker inside(params);
+  inside.update(frame(kT0, 0, {}, {ball(-1.82, -2.5)}));
+  EXPECT_NE(inside.output().primaryBall(), nullptr) << "in play: at once";
+  params.ball_confirm_outside = 1;
+  Tracker at_once(params);
+  at_once.update(frame(kT0, 0, {}, {fleck}));
+  EXPECT_NE(at_once.output().primaryBall(), nullptr);
+  params.ball_confirm_outside = 0;
+  EXPECT_THROW(validate(params), std::invalid_argument);
+  params.ball_confirm_outside = 2;
+  params.ball_confirm_within = 0;
+  EXPECT_THROW(validate(params), std::invalid_argument);
+}

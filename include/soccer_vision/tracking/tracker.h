@@ -19,7 +19,9 @@
 //    that is outside the playing area and has never moved more than ball_still_distance
 //    (an orange shoe, a cable by the lines) is "parked": it is the primary only when no
 //    other ball track exists, loses that at once to any other, and gives its slot to a new
-//    candidate inside the playing area when all max_ball_tracks are taken.
+//    candidate inside the playing area when all max_ball_tracks are taken. A track begun
+//    outside the playing area is output only once measured ball_confirm_outside times, each
+//    within ball_confirm_within of the last (else it is dropped).
 // Several cameras: every camera's frame updates the same tracks, so a target in the
 // overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
 // prediction, slightly older frames fused at the newest time with their positions moved
@@ -84,6 +86,12 @@ struct TrackerParams {
   double ball_still_distance = 0.10;  // [m] a ball track that never moved farther is still
   // [s] a ball unseen for longer is followed by a kick only to a candidate inside the playing area
   double out_of_play_kick_window = 0.02;
+  // A ball track begun outside the playing area is output once measured this many times: one
+  // frame's orange fleck by the lines (a cable's tip at the carpet's edge) is not the ball,
+  // which is seen again in the next frame. 1 = at once; needs `field`. Such a track not
+  // measured again within ball_confirm_within [s] is dropped (not kept for the lost timeout).
+  int ball_confirm_outside = 2;
+  double ball_confirm_within = 0.05;
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
   // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
   double measurement_offset = 0.0;
@@ -128,6 +136,7 @@ struct TrackerOutput {
   std::vector<TrackedBall> balls;    // primary first
   int withheld_robots = 0;           // coasting tracks left out: too uncertain (output() only)
   int withheld_balls = 0;
+  int unconfirmed_balls = 0;  // ball tracks begun outside the playing area, not yet confirmed
   const TrackedBall* primaryBall() const {
     return !balls.empty() && balls.front().primary ? &balls.front() : nullptr;
   }
@@ -219,7 +228,8 @@ class Tracker {
     Eigen::Vector2d start;  // [m] filtered position after its first measurement
     double travel;          // [m] largest distance of the filtered position from start
   };
-  bool parked(const BallTrack& t) const;  // still, outside the playing area
+  bool parked(const BallTrack& t) const;     // still, outside the playing area
+  bool confirmed(const BallTrack& t) const;  // in play from the start, or seen often enough
   bool inPlay(const BallDetection& d) const;
   double rateAt(const BallTrack& t, double now) const;
   void choosePrimaryBall();
