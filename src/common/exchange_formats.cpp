@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "soccer_vision/common/atomic_file.h"
+
 namespace soccer_vision {
 namespace {
 
@@ -271,9 +273,7 @@ std::string readTextFile(const std::string& path) {
 }
 
 void writeTextFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw std::runtime_error(path + ": cannot write file");
+  writeFileAtomically(path, text.data(), text.size());
 }
 
 }  // namespace soccer_vision

@@ -371,7 +371,7 @@ void SegmentationNodelet::requestLoad(const std::string& path) {
 
 void SegmentationNodelet::loaderLoop() {
   std::unique_lock<std::mutex> lock(load_mutex_);
-  std::optional<std::string> retry;  // a file that did not exist yet, while there is no table
+  std::optional<std::string> retry;  // a file not there yet or not loadable, while there is no table
   while (true) {
     auto wake = [this] { return stopping_ || pending_load_.has_value(); };
     if (retry) {
@@ -386,6 +386,7 @@ void SegmentationNodelet::loaderLoop() {
     lock.unlock();
     // Without any table, a file that does not exist yet (being written by a calibration
     // started at the same time, e.g. the demo's) is waited for, with the error once.
+    bool retry_after_failure = false;
     if (!model() && access(path.c_str(), F_OK) != 0) {
       if (!last_load_failed_)
         NODELET_ERROR("color_table %s does not exist (yet): waiting for it", path.c_str());
@@ -411,14 +412,21 @@ void SegmentationNodelet::loaderLoop() {
       NODELET_INFO("colour table loaded from %s%s", path.c_str(),
                    table->illuminationReference().empty() ? " (no illumination reference)" : "");
     } catch (const std::exception& e) {
-      last_load_failed_ = true;
       const bool have = static_cast<bool>(model());
-      NODELET_ERROR("cannot load color_table: %s; %s", e.what(),
-                    have ? "keeping the previous table" : "no table yet: frames are dropped");
+      // Without any table it is tried again every second, the error once: a file another
+      // process has not finished writing (likely why a camera of a CI run stayed without detections for 140
+      // s) or one the user fixes in place.
+      if (have || !last_load_failed_) {
+        NODELET_ERROR("cannot load color_table: %s; %s", e.what(),
+                      have ? "keeping the previous table" : "no table yet: frames are dropped; trying again");
+      }
+      last_load_failed_ = true;
+      retry_after_failure = !have;
       std::lock_guard<std::mutex> state(state_mutex_);
       table_error_ = e.what();
     }
     lock.lock();
+    if (retry_after_failure) retry = path;
   }
 }
 

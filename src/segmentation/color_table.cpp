@@ -12,6 +12,7 @@
 
 #include <Eigen/Dense>
 
+#include "soccer_vision/common/atomic_file.h"
 #include "soccer_vision/common/statistics.h"
 
 namespace soccer_vision {
@@ -1216,11 +1217,11 @@ void ColorTable::save(const std::string& path) const {
   w.patchU64(kSizeOffset, w.buffer().size() + kChecksumBytes);
   w.u32(crc32(w.buffer().data(), w.buffer().size()));
 
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(w.buffer().data()),
-            static_cast<std::streamsize>(w.buffer().size()));
-  out.close();
-  if (!out) throw std::runtime_error("colour table '" + path + "': cannot write the file");
+  try {
+    writeFileAtomically(path, w.buffer().data(), w.buffer().size());  // a loading nodelet sees it whole
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error("colour table '" + path + "': cannot write the file");
+  }
 }
 
 ColorTable ColorTable::load(const std::string& path) {
