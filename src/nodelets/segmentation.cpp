@@ -414,8 +414,8 @@ void SegmentationNodelet::loaderLoop() {
     } catch (const std::exception& e) {
       const bool have = static_cast<bool>(model());
       // Without any table it is tried again every second, the error once: a file another
-      // process has not finished writing (likely why a camera of a CI run stayed without detections for 140
-      // s) or one the user fixes in place.
+      // process has not finished writing (likely why a camera of a CI run had no detections
+      // for 140 s) or one the user fixes in place.
       if (have || !last_load_failed_) {
         NODELET_ERROR("cannot load color_table: %s; %s", e.what(),
                       have ? "keeping the previous table" : "no table yet: frames are dropped; trying again");
