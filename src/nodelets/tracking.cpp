@@ -98,7 +98,9 @@ class TrackingNodelet : public nodelet::Nodelet {
   std::uint64_t no_camera_model_ = 0, results_errors_ = 0, camera_info_refused_ = 0;
   std::uint64_t withheld_robots_ = 0, withheld_balls_ = 0;  // outputs of too uncertain coasting tracks
   std::uint64_t unconfirmed_balls_ = 0;  // outputs of ball tracks begun outside the playing area
-  StampJumpGate tf_gate_;                // tf only for stamps on a confirmed time line
+  std::uint64_t unsure_outside_balls_ =
+      0;                   // outputs of ball tracks outside the lines below outside_min_confidence
+  StampJumpGate tf_gate_;  // tf only for stamps on a confirmed time line
 };
 
 void TrackingNodelet::onInit() {
@@ -304,6 +306,7 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     withheld_robots_ += out.withheld_robots;
     withheld_balls_ += out.withheld_balls;
     unconfirmed_balls_ += out.unconfirmed_balls;
+    unsure_outside_balls_ += out.unsure_outside_balls;
     *robots = toRobotPoseArray(out, header);
     *balls = toBallPoseArray(out, header);
     appendGameMarkers(*robots, *balls, marker_style_, *markers);
@@ -422,6 +425,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("robots withheld (coasting, too uncertain)", withheld_robots_);
   stat.add("balls withheld (coasting, too uncertain)", withheld_balls_);
   stat.add("balls withheld (begun outside the playing area, not yet confirmed)", unconfirmed_balls_);
+  stat.add("balls withheld (outside the lines, unsure)", unsure_outside_balls_);
   stat.add("frames searched whole", global_frames_);
   stat.add("frames searched in windows", windowed_frames_);
   stat.add("windows without camera model", no_camera_model_);

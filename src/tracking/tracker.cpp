@@ -60,6 +60,7 @@ void validate(const TrackerParams& p) {
     throw std::invalid_argument("tracker: out_of_play_kick_window must be >= 0");
   if (p.ball_confirm_outside < 1) throw std::invalid_argument("tracker: ball_confirm_outside must be >= 1");
   positive(p.ball_confirm_within, "ball_confirm_within");
+  unit(p.outside_min_confidence, "outside_min_confidence");
   auto offset = [](double v, const std::string& name) {
     if (!(std::abs(v) <= 0.1)) {
       throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " +
@@ -553,6 +554,11 @@ TrackerOutput Tracker::tracksAt(double stamp, bool withhold_uncertain) const {
     b.position_covariance = P.topLeftCorner<2, 2>();
     if (withhold_uncertain && !confirmed(t)) {  // output() only: the windows still look for it
       ++out.unconfirmed_balls;
+      continue;
+    }
+    if (withhold_uncertain && t.confidence < p_.outside_min_confidence && p_.field &&
+        !p_.field->inPlayingArea(b.x, b.y)) {
+      ++out.unsure_outside_balls;
       continue;
     }
     if (withhold_uncertain && tooUncertain(b.visible, b.position_covariance)) {

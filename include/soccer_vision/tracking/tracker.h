@@ -21,7 +21,8 @@
 //    other ball track exists, loses that at once to any other, and gives its slot to a new
 //    candidate inside the playing area when all max_ball_tracks are taken. A track begun
 //    outside the playing area is output only once measured ball_confirm_outside times, each
-//    within ball_confirm_within of the last (else it is dropped).
+//    within ball_confirm_within of the last (else it is dropped); one outside the playing area
+//    only while its running confidence is at least outside_min_confidence.
 // Several cameras: every camera's frame updates the same tracks, so a target in the
 // overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
 // prediction, slightly older frames fused at the newest time with their positions moved
@@ -92,6 +93,10 @@ struct TrackerParams {
   // measured again within ball_confirm_within [s] is dropped (not kept for the lost timeout).
   int ball_confirm_outside = 2;
   double ball_confirm_within = 0.05;
+  // [0..1] a ball track outside the playing area is output only while its running
+  // confidence is at least this: the flickering tip of an orange cable at the carpet's edge
+  // (0.09-0.18) is not a ball out of play (a ball-sized one: about outside_play_weight, 0.5).
+  double outside_min_confidence = 0.25;
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
   // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
   double measurement_offset = 0.0;
@@ -136,7 +141,8 @@ struct TrackerOutput {
   std::vector<TrackedBall> balls;    // primary first
   int withheld_robots = 0;           // coasting tracks left out: too uncertain (output() only)
   int withheld_balls = 0;
-  int unconfirmed_balls = 0;  // ball tracks begun outside the playing area, not yet confirmed
+  int unconfirmed_balls = 0;     // ball tracks begun outside the playing area, not yet confirmed
+  int unsure_outside_balls = 0;  // ball tracks outside the playing area below outside_min_confidence
   const TrackedBall* primaryBall() const {
     return !balls.empty() && balls.front().primary ? &balls.front() : nullptr;
   }
