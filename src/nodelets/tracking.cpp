@@ -97,9 +97,9 @@ class TrackingNodelet : public nodelet::Nodelet {
   std::uint64_t frames_ = 0, window_frames_ = 0, global_frames_ = 0, windowed_frames_ = 0;
   std::uint64_t no_camera_model_ = 0, results_errors_ = 0, camera_info_refused_ = 0;
   std::uint64_t withheld_robots_ = 0, withheld_balls_ = 0;  // outputs of too uncertain coasting tracks
-  std::uint64_t unconfirmed_balls_ = 0;  // outputs of ball tracks begun outside the playing area
-  std::uint64_t unsure_outside_balls_ =
-      0;                   // outputs of ball tracks outside the lines below outside_min_confidence
+  // Outputs of ball tracks begun outside the playing area, not yet confirmed, and of those
+  // outside it below outside_min_confidence.
+  std::uint64_t unconfirmed_balls_ = 0, unsure_outside_balls_ = 0;
   StampJumpGate tf_gate_;  // tf only for stamps on a confirmed time line
 };
 

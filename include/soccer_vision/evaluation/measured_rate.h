@@ -1,7 +1,7 @@
 // The measured rate: of the robots a camera frame shows (ground truth visible and all their
-// markers inside that camera's image, as the truth's visibility is defined: markerOutlinePoints), the share
-// the frame's own detections measure -- same team and id within 50 mm -- as opposed to tracks coasting on
-// predictions. The others by why they were missed, in this order:
+// markers inside that camera's image, the truth's own rule: markerOutlinePoints), the share
+// the frame's own detections measure -- same team and id within 50 mm -- as opposed to
+// tracks coasting on predictions. The others by why they were missed, in this order:
 //   wrong id:                 a detection within 50 mm, of another team or id;
 //   identification rejected:  a region of a marker colour lies on the robot's top in the
 //                             image, yet no detection came of it. Why: the identification's
