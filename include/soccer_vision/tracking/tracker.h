@@ -22,7 +22,8 @@
 //    candidate inside the playing area when all max_ball_tracks are taken. A track begun
 //    outside the playing area is output only once measured ball_confirm_outside times, each
 //    within ball_confirm_within of the last (else it is dropped); one outside the playing area
-//    only while its running confidence is at least outside_min_confidence.
+//    only while its running confidence is at least outside_min_confidence. A track output()
+//    withholds so is, like a parked one, the primary only while no output track exists.
 // Several cameras: every camera's frame updates the same tracks, so a target in the
 // overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
 // prediction, slightly older frames fused at the newest time with their positions moved
@@ -95,8 +96,9 @@ struct TrackerParams {
   double ball_confirm_within = 0.05;
   // [0..1] a ball track outside the playing area is output only while its running
   // confidence is at least this: the flickering tip of an orange cable at the carpet's edge
-  // (0.09-0.18) is not a ball out of play (a ball-sized one: about outside_play_weight, 0.5).
-  double outside_min_confidence = 0.25;
+  // (running 0.09-0.25) is not a ball out of play (a ball-sized one: about
+  // outside_play_weight, 0.5; balls rolled out on spent held-out recordings: 0.41 and up).
+  double outside_min_confidence = 0.3;
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
   // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
   double measurement_offset = 0.0;
@@ -236,6 +238,10 @@ class Tracker {
   };
   bool parked(const BallTrack& t) const;     // still, outside the playing area
   bool confirmed(const BallTrack& t) const;  // in play from the start, or seen often enough
+  // At (x, y), outside the playing area with a running confidence below outside_min_confidence.
+  bool unsureOutside(const BallTrack& t, double x, double y) const;
+  // For the primary's choice: 0 output and not parked, 1 parked, 2 withheld from output().
+  int standing(const BallTrack& t) const;
   bool inPlay(const BallDetection& d) const;
   double rateAt(const BallTrack& t, double now) const;
   void choosePrimaryBall();
