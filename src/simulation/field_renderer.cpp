@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "soccer_vision/simulation/ball_light.h"
 #include "soccer_vision/simulation/camera_response.h"
 #include "soccer_vision/simulation/carpet_texture.h"
 #include "soccer_vision/simulation/distractors.h"
@@ -18,6 +19,7 @@ namespace soccer_vision {
 namespace {
 
 constexpr double kBallRadius = 0.0215;  // m
+constexpr double kBallShininess = 20;   // Blinn-Phong exponent of its highlights (a lobe ~15 deg wide)
 constexpr int kNoiseMargin = 32;        // px: the noise plane is shifted per frame
 constexpr double kBoundsMargin = 0.01;  // m around objects when bounding them
 constexpr int kBoundsPoints = 24;       // samples of a circle when bounding it
@@ -451,7 +453,8 @@ struct FieldRenderer::Impl {
   }
 
   // Distance of each pixel's ray from the ball centre (double: the difference of two
-  // ~16 m^2 terms must resolve 0.1 mm), and the distance along the ray (carpet = 1).
+  // ~16 m^2 terms must resolve 0.1 mm), the distance along the ray (carpet = 1), and the
+  // ray (camera centre to the carpet).
   template <typename Fn>
   void traceBall(const BallState& b, const cv::Rect& area, Fn&& fn) const {
     const Eigen::Vector3d w = Eigen::Vector3d(b.x, b.y, b.z) - centre;
@@ -461,28 +464,41 @@ struct FieldRenderer::Impl {
         const Eigen::Vector3d d(g[u][0] - centre.x(), g[u][1] - centre.y(), -centre.z());
         const double dd = d.squaredNorm(), wd = w.dot(d);
         const double distance = std::sqrt(std::max(0.0, w.squaredNorm() - wd * wd / dd));
-        fn(u, v, static_cast<float>(distance), static_cast<float>(wd / dd));
+        fn(u, v, static_cast<float>(distance), static_cast<float>(wd / dd), d);
       }
     }
   }
 
-  void drawBall(const BallState& b, const cv::Mat& spatial_gain, const cv::Rect& area, cv::Mat& patch,
-                cv::Point origin) const {
+  void drawBall(const BallState& b, const cv::Mat& spatial_gain, const std::vector<double>& intensity,
+                const cv::Rect& area, cv::Mat& patch, cv::Point origin) const {
     const cv::Vec3f orange = classAlbedo(ColorClass::Orange);
+    const cv::Vec3f white = albedoFromRgb(255, 255, 255);  // a highlight has the light's colour
     const float radius = static_cast<float>(kBallRadius);
-    traceBall(b, area, [&](int u, int v, float distance, float along) {
+    const double lit = scenario.appearance.ball_shading, gloss = scenario.appearance.ball_gloss;
+    const Eigen::Vector3d ball(b.x, b.y, b.z);
+    const BallLight light(lamps, intensity, ball);
+    traceBall(b, area, [&](int u, int v, float distance, float along, const Eigen::Vector3d& ray) {
       const float c = coverage(distance - radius, footprint.at<float>(v, u) * along);
       if (c <= 0) return;
       // Soft shading symmetric about the view ray: it keeps the centroid on the centre.
       const float q = std::min(1.f, distance / radius);
-      const float shade = 0.75f + 0.25f * std::sqrt(1 - q * q);
+      float shade = 0.75f + 0.25f * std::sqrt(1 - q * q);
+      float highlight = 0;
+      if (lit > 0 || gloss > 0) {
+        // Where the ray meets the sphere (at its rim for the edge's partly covered pixels).
+        const double n = ray.norm(), half_chord = kBallRadius * std::sqrt(1.0 - double(q) * q);
+        const Eigen::Vector3d normal = (centre + ray * ((along * n - half_chord) / n) - ball).normalized();
+        shade = static_cast<float>((1 - lit) * shade + lit * light.diffuse(normal));
+        highlight = static_cast<float>(gloss * light.specular(normal, -ray / n, kBallShininess));
+      }
+      const float g = spatial_gain.at<float>(v, u);
       cv::Vec3f& out = patch.at<cv::Vec3f>(v - origin.y, u - origin.x);
-      out = out * (1 - c) + (c * shade * spatial_gain.at<float>(v, u)) * orange;
+      out = out * (1 - c) + (c * shade * g) * orange + (c * highlight * g) * white;
     });
   }
 
   void labelBall(const BallState& b, const cv::Rect& area, cv::Mat& labels) const {
-    traceBall(b, area, [&](int u, int v, float distance, float) {
+    traceBall(b, area, [&](int u, int v, float distance, float, const Eigen::Vector3d&) {
       if (distance <= kBallRadius)
         labels.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(ColorClass::Orange);
     });
@@ -504,7 +520,7 @@ struct FieldRenderer::Impl {
       if (d.is_robot)
         drawRobot(look(scene.robots[d.index]), gain_now, area, patch, region.tl());
       else
-        drawBall(scene.balls[d.index], gain_now, area, patch, region.tl());
+        drawBall(scene.balls[d.index], gain_now, intensity, area, patch, region.tl());
     }
   }
 

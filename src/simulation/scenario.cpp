@@ -136,6 +136,8 @@ ScenarioConfig parseScenario(const std::string& yaml_text, const std::string& so
                      .field("shot_noise", a.shot_noise)
                      .field("demosaic", a.demosaic)
                      .field("distractors", a.distractors)
+                     .field("ball_shading", a.ball_shading)
+                     .field("ball_gloss", a.ball_gloss)
                      .read();
                })
       .section("lens",
@@ -221,6 +223,8 @@ void checkScenario(const ScenarioConfig& s, const std::string& source) {
         source, "appearance.vignetting must be in [0, 1), lens_blur in [0, 5] px, shot_noise in [0, 10]");
   check(!a.demosaic || !c.bayer.empty(), source, "appearance.demosaic needs sensor.bayer");
   check(a.distractors >= 0 && a.distractors <= 64, source, "appearance.distractors must be in [0, 64]");
+  check(a.ball_shading >= 0 && a.ball_shading <= 1 && a.ball_gloss >= 0 && a.ball_gloss <= 2, source,
+        "appearance.ball_shading must be in [0, 1], ball_gloss in [0, 2]");
   check(s.lens.k1 >= -0.4 && s.lens.k1 <= 0.1 && s.lens.k2 >= -0.1 && s.lens.k2 <= 0.2, source,
         "lens.k1 must be in [-0.4, 0.1], lens.k2 in [-0.1, 0.2]");
   check(s.lens.tilt_deg >= 0 && s.lens.tilt_deg <= 15, source, "lens.tilt_deg must be in [0, 15]");

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "soccer_vision/simulation/ball_light.h"
 #include "soccer_vision/simulation/distractors.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "soccer_vision/simulation/lamps.h"
@@ -271,4 +272,58 @@ TEST(Appearance, WideAngleTiltedCameraAndTheCamerasOwnDemosaic) {
   RenderedFrame out;
   renderer.render(oneRobot(), 0, out);
   EXPECT_EQ(out.image.type(), CV_8UC3);
+}
+
+// The ball as a sphere lit by the lamps: darker towards its rim, brighter where a lamp
+// shines on it, and with gloss a pale highlight where it mirrors a lamp towards the camera.
+TEST(Appearance, TheBallIsASphereLitByTheLampsWithItsHighlights) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ(), aside = Eigen::Vector3d::UnitX();
+  {
+    AppearanceConfig none;
+    const BallLight overhead(LampSet(none, kField, 1), {}, Eigen::Vector3d(0, 0, 0.0215));
+    EXPECT_NEAR(overhead.diffuse(up), 1.0, 1e-12);
+    EXPECT_NEAR(overhead.diffuse(aside), BallLight::kIndirect, 1e-12);
+    EXPECT_NEAR(overhead.specular(up, up, 20), 1.0, 1e-12);
+    EXPECT_LT(overhead.specular(Eigen::Vector3d(1, 0, 1).normalized(), up, 20), 0.05);
+  }
+  AppearanceConfig a;
+  a.lamps = 3;
+  const LampSet lamps(a, kField, 7);
+  const Eigen::Vector3d ball(1.0, -0.5, 0.0215);
+  const BallLight light(lamps, {}, ball);
+  EXPECT_NEAR(light.diffuse(up), 1.0, 1e-9) << "the top gets the light of a horizontal surface";
+  const Lamp& l = lamps.lamp(0);
+  const Eigen::Vector3d towards = (Eigen::Vector3d(l.x, l.y, ball.z()) - ball).normalized();
+  const Eigen::Vector3d side = (up + towards).normalized(), far_side = (up - towards).normalized();
+  EXPECT_GT(light.diffuse(side), light.diffuse(far_side) + 0.02);
+  // Dimmed lamp 0 lights its side less.
+  const BallLight dimmed(lamps, {0.2, 1.0, 1.0}, ball);
+  EXPECT_LT(dimmed.diffuse(side) - dimmed.diffuse(far_side), light.diffuse(side) - light.diffuse(far_side));
+
+  // Rendered, under the camera (light from above: no lamps): the rim darker, the middle pale.
+  ScenarioConfig s = plain();
+  s.width = 1280;
+  s.height = 1024;
+  const CameraModel camera = cameraOf(s);
+  SceneState scene;
+  BallState b;
+  b.x = camera.cameraCentre().x();
+  b.y = camera.cameraCentre().y();
+  scene.balls.push_back(b);
+  const Eigen::Vector2d centre = *camera.project(Eigen::Vector3d(b.x, b.y, b.z));
+  const double radius_px = (*camera.project(Eigen::Vector3d(b.x + 0.0215, b.y, b.z)) - centre).norm();
+  ASSERT_GT(radius_px, 4.0);
+  const Eigen::Vector2d rim = centre + Eigen::Vector2d(0.7 * radius_px, 0);
+  auto rimOverCentre = [&](const cv::Mat& image) {
+    return meanAround(image, rim, 0)[1] / meanAround(image, centre, 0)[1];  // green
+  };
+  const cv::Mat even = render(s, scene);
+  s.appearance.ball_shading = 1;
+  const cv::Mat shaded = render(s, scene);
+  EXPECT_LT(rimOverCentre(shaded), rimOverCentre(even) - 0.1);
+  s.appearance.ball_gloss = 1;
+  const cv::Mat glossy = render(s, scene);
+  // Orange has no blue: the highlight's white brings it, in the middle only.
+  EXPECT_GT(meanAround(glossy, centre, 0)[0], meanAround(shaded, centre, 0)[0] + 40);
+  EXPECT_LT(meanAround(glossy, rim, 0)[0], meanAround(shaded, rim, 0)[0] + 15);
 }

@@ -83,6 +83,9 @@ TEST(Scenario, AppearanceOutOfRangeIsAnError) {
   EXPECT_NE(errorOf("appearance: {lamps: 40}\n").find("lamps"), std::string::npos);
   EXPECT_NE(errorOf("appearance: {demosaic: true}\n").find("demosaic"), std::string::npos);
   EXPECT_NE(errorOf("appearance: {colour_temperature: 3000}\n").find("unknown key"), std::string::npos);
+  EXPECT_NE(errorOf("appearance: {ball_shading: 1.5}\n").find("ball_shading"), std::string::npos);
+  EXPECT_NE(errorOf("appearance: {ball_gloss: -0.1}\n").find("ball_gloss"), std::string::npos);
+  EXPECT_DOUBLE_EQ(parseScenario("appearance: {ball_gloss: 0.7}", "g").appearance.ball_gloss, 0.7);
   EXPECT_NE(errorOf("lens: {k1: -0.5}\n").find("k1"), std::string::npos);
   EXPECT_NE(errorOf("lens: {tilt_deg: 20}\n").find("tilt_deg"), std::string::npos);
 }

@@ -47,6 +47,8 @@ struct AppearanceConfig {
   double shot_noise = 0.0;            // shot-noise variance per 8-bit unit of signal (DN)
   bool demosaic = false;              // with sensor.bayer: the camera's own demosaic, BGR out
   int distractors = 0;                // people's legs and shoes, clothes, cables outside the lines
+  double ball_shading = 0.0;          // the ball lit as a sphere by the lamps (1) or evenly (0)
+  double ball_gloss = 0.0;            // the ball's highlights: peak per unit of the light on its top
 };
 
 // Lens and mounting of the synthetic cameras beyond CameraModel::defaultCamera.
