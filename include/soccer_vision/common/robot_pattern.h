@@ -64,7 +64,6 @@ struct PatternSet {
   static PatternSet teamOnly();
 };
 
-// Parses a pattern YAML document; throws std::runtime_error with a clear message.
 // Points on the outlines of robot (team, id)'s markers in `field` (each rectangle's corners,
 // 8 points on each disc's rim) on its team's marker plane, the robot at (x, y) heading
 // `theta`. A robot is visible in an image when all of them are in it: what the ground
@@ -72,6 +71,7 @@ struct PatternSet {
 std::vector<Eigen::Vector3d> markerOutlinePoints(const PatternSet& patterns, Team team, int id, double x,
                                                  double y, double theta);
 
+// Parses a pattern YAML document; throws std::runtime_error with a clear message.
 PatternSet parsePatternSet(const std::string& yaml_text, const std::string& source_name);
 PatternSet loadPatternSet(const std::string& path);
 // "two_tag", "ssl", "team_only" (built in) or a path to a YAML file.
