@@ -281,10 +281,10 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
 
 // The calibration UI's target: a table from about 3 strokes per class classifies the marker
 // interiors of other frames within 0.5 % of one from the renderer's exact samples (both
-// generalised, both from the same one frame). Measured 2026-12-04 (docs/calibration.md): 99.66 %
-// against 99.72 % over all kinds; within 0.5 % on 7 of the 9 kinds, not on rand_uneven_lamps
-// (-1.4 %: 3 strokes see 3 of the lamps' light levels) and rand_bayer (-2.9 %: 3 of its 102
-// interior quads). The bounds keep what is reached.
+// generalised, both from the same one frame), asserted per kind. Measured 2026-12-06
+// (docs/calibration.md): 99.766 % against 99.784 % over all kinds, the largest gap 0.19 %
+// (rand_flicker_jpeg); on 2026-12-04 rand_uneven_lamps and rand_bayer were 1.4 and 2.9 %
+// short. On held-out seeds 9100-9104: 49 of 50 kinds x seeds within 0.5 %.
 TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
   Accuracy total[2];
   for (const char* name :
@@ -299,9 +299,9 @@ TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
         name, 100 * a[0].markers(), 100 * a[1].markers(), 100 * a[0].falsePositives(),
         100 * a[1].falsePositives());
     for (int v = 0; v < 2; ++v) total[v].add(a[v]);
-    EXPECT_GE(a[1].markers(), a[0].markers() - 0.05) << name;
+    EXPECT_GE(a[1].markers(), a[0].markers() - 0.005) << name;
   }
-  EXPECT_GE(total[1].markers(), total[0].markers() - 0.006);
+  EXPECT_GE(total[1].markers(), total[0].markers() - 0.002);
   std::printf("[ all randomised  ] marker interiors: exact %.3f %%, strokes %.3f %%\n",
               100 * total[0].markers(), 100 * total[1].markers());
 }
