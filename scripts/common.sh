@@ -29,6 +29,7 @@ DEBIAN_PACKAGES+=( libprotobuf-dev protobuf-compiler python3-protobuf )  # the S
 DEBIAN_PACKAGES+=( libcpp-httplib-dev )  # the calibration UI's HTTP server
 DEBIAN_PACKAGES+=( chromium chromium-driver python3-selenium )  # the calibration UI's browser test
 DEBIAN_PACKAGES+=( libstd-srvs-dev python3-std-srvs )  # Segmentation's ~reset_online_calibration (std_srvs/Trigger)
+DEBIAN_PACKAGES+=( python3-tf2-msgs )  # the live tests read /tf
 DEBIAN_PACKAGES+=( ccache )  # rebuilds of other checkouts and of the sanitizer workspace are cheap
 DEBIAN_PACKAGES+=( clang-format )  # test/style checks that the C++ sources are formatted
 

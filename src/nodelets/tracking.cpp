@@ -101,6 +101,10 @@ class TrackingNodelet : public nodelet::Nodelet {
   // outside it below outside_min_confidence.
   std::uint64_t unconfirmed_balls_ = 0, unsure_outside_balls_ = 0;
   StampJumpGate tf_gate_;  // tf only for stamps on a confirmed time line
+  // tf once per stamp: cameras that capture at the same instants give one output each, and
+  // tf2 refuses (and every listener warns of) a frame's transform repeated at its stamp.
+  ros::Time last_tf_stamp_;
+  std::uint64_t tf_same_stamp_ = 0;
 };
 
 void TrackingNodelet::onInit() {
@@ -332,7 +336,12 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
   bool tf_ok = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    tf_ok = publish_tf_ && tf_gate_.accept(header.stamp.toSec());
+    if (publish_tf_ && header.stamp == last_tf_stamp_) {
+      ++tf_same_stamp_;
+    } else if (publish_tf_ && tf_gate_.accept(header.stamp.toSec())) {
+      tf_ok = true;
+      last_tf_stamp_ = header.stamp;
+    }
     latencies_ms_.push_back(latency_ms);
   }
   if (tf_ok) publishTf(out, header.stamp);
@@ -431,6 +440,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("windows without camera model", no_camera_model_);
   stat.add("camera_info refused (NaN/Inf, focal <= 0, size)", camera_info_refused_);
   stat.add("tf held back (unconfirmed stamp jumps)", tf_gate_.held());
+  stat.add("tf skipped (stamp already published by another camera's output)", tf_same_stamp_);
   if (results_) stat.add("results lines", results_->written());
   window_start_ = ros::WallTime::now();
   window_frames_ = 0;

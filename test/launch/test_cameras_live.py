@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """N cameras in one running system (vision_four_cameras.test: demo.launch on Division A with
 its four cameras): every camera's pipeline runs, each camera's frame is tracked with the robots
-its ground truth shows, and no output ever reports a robot twice, however many cameras see it."""
+its ground truth shows, and no output ever reports a robot twice, however many cameras see it.
+The cameras capture at the same instants: tf carries each frame once per stamp (tf2 refuses a
+transform repeated at its stamp, and every listener warns of it)."""
 import collections
 import threading
 import time
@@ -10,6 +12,7 @@ import unittest
 import rospy
 import rostest
 from soccer_vision.msg import CameraDetections, RobotPoseArray
+from tf2_msgs.msg import TFMessage
 
 
 def key(pose):
@@ -32,6 +35,8 @@ class CamerasLive(unittest.TestCase):
             rospy.Subscriber("/camera_%d/detections" % i, CameraDetections,
                              lambda m, i=i: cls.count_detections(i, m), queue_size=50)
         rospy.Subscriber("/vision/robots", RobotPoseArray, cls.keep_output, queue_size=200)
+        cls.tf_seen = collections.Counter()  # (child frame, stamp) -> transforms published
+        rospy.Subscriber("/tf", TFMessage, cls.count_tf, queue_size=200)
 
     @classmethod
     def keep_truth(cls, camera, msg):
@@ -42,6 +47,12 @@ class CamerasLive(unittest.TestCase):
     def count_detections(cls, camera, msg):
         with cls.lock:
             cls.detections[camera] += 1
+
+    @classmethod
+    def count_tf(cls, msg):
+        with cls.lock:
+            for t in msg.transforms:
+                cls.tf_seen[(t.child_frame_id, t.header.stamp)] += 1
 
     @classmethod
     def keep_output(cls, msg):
@@ -58,11 +69,13 @@ class CamerasLive(unittest.TestCase):
         with self.lock:
             self.detections.clear()
             self.outputs.clear()
+            self.tf_seen.clear()
         time.sleep(self.duration)
         with self.lock:
             detections = dict(self.detections)
             outputs = dict(self.outputs)
             truth = dict(self.truth)
+            tf_seen = dict(self.tf_seen)
 
         print("frames identified per camera in %.0f s: %s" % (self.duration, detections))
         self.assertEqual(sorted(detections), list(range(self.cameras)), "a camera's pipeline is not running")
@@ -70,6 +83,11 @@ class CamerasLive(unittest.TestCase):
 
         twice = [stamp for stamp, msg in outputs.items() if len({key(r) for r in msg.robots}) < len(msg.robots)]
         self.assertEqual(twice, [], "outputs with a robot reported twice")
+        tf_stamps = {stamp for _, stamp in tf_seen}
+        tf_repeated = sorted((n, frame, stamp.to_sec()) for (frame, stamp), n in tf_seen.items() if n > 1)
+        print("tf: %d transforms at %d stamps, %d repeated" % (len(tf_seen), len(tf_stamps), len(tf_repeated)))
+        self.assertGreater(len(tf_stamps), 3 * self.duration, "tf is published")
+        self.assertEqual(tf_repeated[:5], [], "a frame's transform repeated at its stamp")
         seen = {key(r) for msg in outputs.values() for r in msg.robots if r.visible}
 
         # Each output is the tracker after one camera's frame: the robots that camera shows
