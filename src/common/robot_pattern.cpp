@@ -139,23 +139,26 @@ std::vector<ColoredMarker> PatternSet::markers(Team team, int id) const {
   return out;
 }
 
-std::vector<Eigen::Vector3d> markerOutlinePoints(const PatternSet& patterns, Team team, int id, double x,
-                                                 double y, double theta) {
-  const double c = std::cos(theta), s = std::sin(theta), z = patterns.height(team);
-  std::vector<Eigen::Vector3d> points;
+void appendShapeOutline(const MarkerShape& m, double x, double y, double theta, double z,
+                        std::vector<Eigen::Vector3d>& points) {
+  const double c = std::cos(theta), s = std::sin(theta);
   const auto add = [&](double lx, double ly) {
     points.emplace_back(x + c * lx - s * ly, y + s * lx + c * ly, z);
   };
-  for (const ColoredMarker& marker : patterns.markers(team, id)) {
-    const MarkerShape& m = marker.shape;
-    if (m.kind == MarkerShape::Kind::Rect) {
-      for (double sx : {-0.5, 0.5})
-        for (double sy : {-0.5, 0.5}) add(m.x + sx * m.size_x, m.y + sy * m.size_y);
-    } else {
-      for (int k = 0; k < 8; ++k)
-        add(m.x + m.radius * std::cos(k * M_PI / 4), m.y + m.radius * std::sin(k * M_PI / 4));
-    }
+  if (m.kind == MarkerShape::Kind::Rect) {
+    for (double sx : {-0.5, 0.5})
+      for (double sy : {-0.5, 0.5}) add(m.x + sx * m.size_x, m.y + sy * m.size_y);
+  } else {
+    for (int k = 0; k < 8; ++k)
+      add(m.x + m.radius * std::cos(k * M_PI / 4), m.y + m.radius * std::sin(k * M_PI / 4));
   }
+}
+
+std::vector<Eigen::Vector3d> markerOutlinePoints(const PatternSet& patterns, Team team, int id, double x,
+                                                 double y, double theta) {
+  std::vector<Eigen::Vector3d> points;
+  for (const ColoredMarker& marker : patterns.markers(team, id))
+    appendShapeOutline(marker.shape, x, y, theta, patterns.height(team), points);
   return points;
 }
 

@@ -70,6 +70,9 @@ struct PatternSet {
 // truth (FieldRenderer::robotVisible) and the measured rate count.
 std::vector<Eigen::Vector3d> markerOutlinePoints(const PatternSet& patterns, Team team, int id, double x,
                                                  double y, double theta);
+// The same points of one marker shape (robot frame) on the plane z, appended to `points`.
+void appendShapeOutline(const MarkerShape& shape, double x, double y, double theta, double z,
+                        std::vector<Eigen::Vector3d>& points);
 
 // Parses a pattern YAML document; throws std::runtime_error with a clear message.
 PatternSet parsePatternSet(const std::string& yaml_text, const std::string& source_name);
