@@ -48,7 +48,7 @@ LayoutRun runLayout(const std::string& preset, int frames) {
     PipelineCamera c;
     c.id = i;
     c.model = camera;
-    c.layout = *pixelLayoutForEncoding(renderers.back()->encoding());  // the league's cameras: bayer_rggb8
+    c.layout = *pixelLayoutForEncoding(renderers.back()->encoding());  // as the preset renders it
     c.segmentation = SegmentationModel::fromTable(
         std::make_shared<const ColorTable>(calibrateSyntheticCamera(scenario, i)));
     cameras.push_back(c);
