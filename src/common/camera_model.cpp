@@ -144,6 +144,13 @@ bool CameraModel::inImage(const Eigen::Vector2d& pixel, double margin) const {
          pixel.y() <= k_.height - 0.5 - margin;
 }
 
+std::optional<Eigen::Vector2d> CameraModel::projectInImage(const Eigen::Vector3d& p_field,
+                                                           double margin) const {
+  std::optional<Eigen::Vector2d> px = project(p_field);
+  if (px && !inImage(*px, margin)) px.reset();
+  return px;
+}
+
 void checkIntrinsics(const CameraIntrinsics& k) {
   if (k.width < 1 || k.width > kMaxImageSide || k.height < 1 || k.height > kMaxImageSide) {
     throw std::invalid_argument("image size " + std::to_string(k.width) + "x" + std::to_string(k.height) +

@@ -27,8 +27,8 @@ std::vector<std::vector<Eigen::Vector2d>> projectFieldMarkings(const CameraModel
   for (const auto& polyline : fieldMarkingPolylines(field, step)) {
     std::vector<Eigen::Vector2d> piece;
     for (const Eigen::Vector2d& p : polyline) {
-      const auto px = camera.project({p.x(), p.y(), 0.0});
-      if (px && camera.inImage(*px, -margin)) {
+      const auto px = camera.projectInImage({p.x(), p.y(), 0.0}, -margin);
+      if (px) {
         piece.push_back(*px);
         continue;
       }

@@ -431,8 +431,7 @@ class Matcher {
       outline_.clear();
       appendShapeOutline(pattern_.slots[s], h.pose.x, h.pose.y, h.pose.theta, height(teamOf(h)), outline_);
       for (const Eigen::Vector3d& p : outline_) {
-        const std::optional<Eigen::Vector2d> px = camera_.project(p);
-        if (!px || !camera_.inImage(*px, -kCutTolerancePx)) {
+        if (!camera_.projectInImage(p, -kCutTolerancePx)) {
           h.slot_obs[s] = -1;
           dropped = true;
           break;

@@ -372,8 +372,8 @@ nlohmann::json CalibrationUiNodelet::overlay(int id, bool frozen) {
   if (robots) {
     for (const RobotPose& r : robots->robots) {
       const Eigen::Vector3d centre(r.x, r.y, marker_height);
-      const auto p = model->project(centre);
-      if (!p || !model->inImage(*p)) continue;
+      const auto p = model->projectInImage(centre);
+      if (!p) continue;
       nlohmann::json j = {{"team", r.team == RobotPose::TEAM_BLUE ? "blue" : "yellow"},
                           {"id", r.id == 255 ? -1 : r.id},
                           {"pixel", toJson(*p)},
@@ -390,8 +390,8 @@ nlohmann::json CalibrationUiNodelet::overlay(int id, bool frozen) {
   nlohmann::json ball_list = nlohmann::json::array();
   if (balls) {
     for (const BallPose& b : balls->balls) {
-      const auto p = model->project(Eigen::Vector3d(b.x, b.y, b.z));
-      if (p && model->inImage(*p)) ball_list.push_back({{"pixel", toJson(*p)}, {"visible", b.visible}});
+      const auto p = model->projectInImage(Eigen::Vector3d(b.x, b.y, b.z));
+      if (p) ball_list.push_back({{"pixel", toJson(*p)}, {"visible", b.visible}});
     }
   }
   out["balls"] = ball_list;

@@ -22,8 +22,8 @@ void appendVisibleRuns(const CameraModel& camera, const std::vector<Eigen::Vecto
   PixelPolyline run;
   for (const Eigen::Vector2d& p : field_points) {
     const Eigen::Vector3d point(p.x(), p.y(), 0.0);
-    const std::optional<Eigen::Vector2d> px = camera.project(point);
-    if (px && camera.inImage(*px, -margin) && nearTheImage(camera, point)) {
+    const std::optional<Eigen::Vector2d> px = camera.projectInImage(point, -margin);
+    if (px && nearTheImage(camera, point)) {
       run.push_back(*px);
     } else {
       if (run.size() >= 2) out.push_back(run);
@@ -57,8 +57,8 @@ std::vector<LandmarkSuggestion> suggestLandmarks(const FieldGeometry& field, con
   for (const Eigen::Vector3d& p : field.landmarks()) {
     LandmarkSuggestion s{p, std::nullopt};
     if (camera) {
-      const std::optional<Eigen::Vector2d> px = camera->project(p);
-      if (px && camera->inImage(*px) && nearTheImage(*camera, p)) s.pixel = *px;
+      const std::optional<Eigen::Vector2d> px = camera->projectInImage(p);
+      if (px && nearTheImage(*camera, p)) s.pixel = *px;
     }
     out.push_back(s);
   }

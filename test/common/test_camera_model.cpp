@@ -52,6 +52,23 @@ TEST(CameraModel, DefaultCamerasCoverTheirHalfWithOverlapAndBoundary) {
   EXPECT_NEAR((*a - *b).norm(), 0.005, 0.0005);
 }
 
+TEST(CameraModel, ProjectInImageGivesThePixelOnlyInsideTheImageAndItsMargin) {
+  const auto cam = CameraModel::defaultCamera(FieldGeometry{}, 0);
+  // A field point projected 1 px beyond the left edge (u = -1.5): out of the image, in it
+  // with a margin of -2 px (reaching beyond the edge), and the same pixel as project().
+  const Eigen::Vector3d beyond = *cam.pixelToField({-1.5, 512.0}, 0.0);
+  EXPECT_FALSE(cam.projectInImage(beyond));
+  const auto reached = cam.projectInImage(beyond, -2.0);
+  ASSERT_TRUE(reached);
+  EXPECT_NEAR((*reached - *cam.project(beyond)).norm(), 0.0, 1e-12);
+  // Inside, but nearer the edge than a 3 px margin.
+  const Eigen::Vector3d near_edge = *cam.pixelToField({1.0, 512.0}, 0.0);
+  EXPECT_TRUE(cam.projectInImage(near_edge));
+  EXPECT_FALSE(cam.projectInImage(near_edge, 3.0));
+  // Behind the camera: no pixel at all.
+  EXPECT_FALSE(cam.projectInImage(cam.cameraCentre() + Eigen::Vector3d(0, 0, 1.0), -1e6));
+}
+
 TEST(CameraModel, ScaledCameraSeesTheSameFieldPoint) {
   const auto cam = CameraModel::defaultCamera(FieldGeometry{}, 0);
   const auto half = cam.scaled(640, 512);

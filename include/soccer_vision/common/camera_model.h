@@ -69,6 +69,9 @@ class CameraModel {
   std::optional<Eigen::Vector3d> pixelToField(const Eigen::Vector2d& pixel, double plane_z) const;
   Eigen::Vector3d cameraCentre() const { return field_T_camera_.translation(); }
   bool inImage(const Eigen::Vector2d& pixel, double margin = 0.0) const;
+  // Field point -> raw pixel when it lies in the image (inImage with `margin`; a negative
+  // margin reaches beyond the edge), else nullopt (also behind the camera).
+  std::optional<Eigen::Vector2d> projectInImage(const Eigen::Vector3d& p_field, double margin = 0.0) const;
 
  private:
   CameraIntrinsics k_;

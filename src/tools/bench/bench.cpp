@@ -115,8 +115,8 @@ std::vector<cv::Rect> windowsFor(const sv::SceneState& scene, const sv::FieldRen
   const int side = static_cast<int>(std::lround(200.0 * cam.width() / 1280.0));
   std::vector<cv::Rect> out;
   auto add = [&](const Eigen::Vector3d& p) {
-    const auto px = cam.project(p);
-    if (px && cam.inImage(*px))
+    const auto px = cam.projectInImage(p);
+    if (px)
       out.emplace_back(static_cast<int>(px->x()) - side / 2, static_cast<int>(px->y()) - side / 2, side,
                        side);
   };
