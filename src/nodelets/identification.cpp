@@ -38,6 +38,7 @@ IdentificationParams toIdentificationParams(const IdentificationConfig& c) {
   IdentificationParams p;
   p.robots.marker_gate = c.marker_gate;
   p.robots.area_ratio_gate = c.area_ratio_gate;
+  p.robots.small_marker_confidence = c.small_marker_confidence;
   p.robots.axis_weight = c.axis_weight;
   p.robots.min_confidence = c.min_confidence;
   p.robots.max_missing_markers = c.max_missing_markers;

@@ -106,8 +106,13 @@ TEST(RejectionCounts, TooSmallTeamMarkersCountAsAreaOrConfidence) {
   const CameraFrameDetections weak = identify.identify({scaledArea(marker, 0.4)});
   EXPECT_TRUE(weak.robots.empty());
   EXPECT_EQ(weak.rejections[RejectionCause::Confidence], 1) << weak.rejections.summary();
-  // A fifth of the expected area is outside the gate.
-  const CameraFrameDetections tiny = identify.identify({scaledArea(marker, 0.2)});
+  // A fifth: below the gate, above its square, it would be an unsure robot, but ln(0.2) /
+  // 0.35 = -4.6 leaves a confidence of 3e-5.
+  const CameraFrameDetections small = identify.identify({scaledArea(marker, 0.2)});
+  EXPECT_TRUE(small.robots.empty());
+  EXPECT_EQ(small.rejections[RejectionCause::Confidence], 1) << small.rejections.summary();
+  // A fourteenth is below the gate squared (1/3.5²).
+  const CameraFrameDetections tiny = identify.identify({scaledArea(marker, 1.0 / 14)});
   EXPECT_TRUE(tiny.robots.empty());
   EXPECT_EQ(tiny.rejections[RejectionCause::Area], 1) << tiny.rejections.summary();
   EXPECT_EQ(tiny.rejections.total(), 1);

@@ -50,7 +50,13 @@ struct RobotIdentificationParams {
   // 98.6 % of fast_motion's; 3.5: 91 % and 99.1 %, no identity error on any preset. The
   // team marker of a complete pattern of three or more id markers: within [1/g², g²].
   double area_ratio_gate = 3.5;
-  double area_sigma = 0.35;            // scoring scale of ln(observed / expected area)
+  double area_sigma = 0.35;  // scoring scale of ln(observed / expected area)
+  // A robot one of whose markers lies where the fit puts it but is smaller than its gate,
+  // in [1/g², 1/g) of its area (a moving robot's blurred markers): reported with at most
+  // this confidence, below the tracker's min_start_confidence (0.2): it measures the track
+  // of its robot (or, misread, the one it lies on) and begins none. 0 = such a robot is
+  // rejected (`area`).
+  double small_marker_confidence = 0.15;
   int max_missing_markers = 1;         // id markers a robot may lack and still be reported
   double missing_marker_factor = 0.5;  // confidence factor per missing id marker
   double min_confidence = 0.05;        // hypotheses below are dropped
