@@ -97,9 +97,9 @@ class TrackingNodelet : public nodelet::Nodelet {
   std::uint64_t frames_ = 0, window_frames_ = 0, global_frames_ = 0, windowed_frames_ = 0;
   std::uint64_t no_camera_model_ = 0, results_errors_ = 0, camera_info_refused_ = 0;
   std::uint64_t withheld_robots_ = 0, withheld_balls_ = 0;  // outputs of too uncertain coasting tracks
-  // Outputs of ball tracks begun outside the playing area, not yet confirmed, and of those
-  // outside it below outside_min_confidence.
-  std::uint64_t unconfirmed_balls_ = 0, unsure_outside_balls_ = 0;
+  // Outputs of ball tracks begun outside the playing area, not yet confirmed, of those
+  // outside it below outside_min_confidence, and of parked ones.
+  std::uint64_t unconfirmed_balls_ = 0, unsure_outside_balls_ = 0, parked_balls_ = 0;
   StampJumpGate tf_gate_;  // tf only for stamps on a confirmed time line
   // tf once per stamp: cameras that capture at the same instants give one output each, and
   // tf2 refuses (and every listener warns of) a frame's transform repeated at its stamp.
@@ -311,6 +311,7 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
     withheld_balls_ += out.withheld_balls;
     unconfirmed_balls_ += out.unconfirmed_balls;
     unsure_outside_balls_ += out.unsure_outside_balls;
+    parked_balls_ += out.parked_balls;
     *robots = toRobotPoseArray(out, header);
     *balls = toBallPoseArray(out, header);
     appendGameMarkers(*robots, *balls, marker_style_, *markers);
@@ -435,6 +436,7 @@ void TrackingNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("balls withheld (coasting, too uncertain)", withheld_balls_);
   stat.add("balls withheld (begun outside the playing area, not yet confirmed)", unconfirmed_balls_);
   stat.add("balls withheld (outside the lines, unsure)", unsure_outside_balls_);
+  stat.add("balls withheld (parked: still outside the lines since first seen)", parked_balls_);
   stat.add("frames searched whole", global_frames_);
   stat.add("frames searched in windows", windowed_frames_);
   stat.add("windows without camera model", no_camera_model_);

