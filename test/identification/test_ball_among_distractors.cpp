@@ -156,25 +156,26 @@ TEST(BallAmongDistractors, BallPutIntoPlayAfterTheDistractorsTakesOverAtOnce) {
 }
 
 TEST(BallAmongDistractors, AnOrangeFringeOnARobotsTopIsNoBall) {
-  // A robot identified at (1.0, 0.5); an orange speck of ball size on its top (a demosaic
-  // fringe at a marker's edge, 3 cm from its centre), and the real ball beside it (its
-  // centre 0.12 m away: touching the robot's side). The speck projects to the floor as a
-  // plausible ball; on the robot's top it is none. The ball beside it stays a candidate.
+  // A robot identified at (-1.0, 0.5), in camera 0's view; an orange speck of ball size on
+  // its top (a demosaic fringe at a marker's edge, 3 cm from its centre), and the real ball
+  // beside it (its centre 0.12 m away: touching the robot's side). The speck projects to the
+  // floor as a plausible ball; on the robot's top it is none. The ball beside it stays a
+  // candidate.
   const double top = PatternSet::twoTag().height(Team::Blue);
   RobotDetection robot;
-  robot.x = 1.0;
+  robot.x = -1.0;
   robot.y = 0.5;
-  const auto speck_px = kCamera.project(Eigen::Vector3d(1.03, 0.5, top));
+  const auto speck_px = kCamera.project(Eigen::Vector3d(-0.97, 0.5, top));
   const auto speck_floor = kCamera.pixelToField(*speck_px, 0.0215);
   std::vector<Region> regions{ballRegion(kCamera, {speck_floor->x(), speck_floor->y(), 0.0215}),
-                              ballRegion(kCamera, {1.0, 0.62, 0.0215})};
+                              ballRegion(kCamera, {-1.0, 0.62, 0.0215})};
   const BallDetector detector(kCamera, kField);
   EXPECT_EQ(detector.detect(regions).size(), 2u);  // without the robot both look like balls
 
   RejectionCounts rejected;
   const auto balls = detector.detect(regions, {}, &rejected, {robot});
   ASSERT_EQ(balls.size(), 1u);
-  EXPECT_LT(std::hypot(balls[0].x - 1.0, balls[0].y - 0.62), 0.005);
+  EXPECT_LT(std::hypot(balls[0].x + 1.0, balls[0].y - 0.62), 0.005);
   EXPECT_EQ(rejected[RejectionCause::BallOnRobot], 1);
 
   BallDetectionParams off;

@@ -682,8 +682,9 @@ TEST(BallDetection, PartsOfLargerBlobsAreNoBallsAndABallBesideATeamTagIs) {
   ASSERT_EQ(balls.size(), 1u);
 
   // A ball-sized piece of a team tag that read orange (a yellow print on a Bayer mosaic,
-  // held-out seed 9028), its robot unidentified: inside the tag it is part of it.
-  const RobotState y = robot(Team::Yellow, 0, 1.0, -0.5, 30);
+  // held-out seed 9028), its robot unidentified: inside the tag it is part of it. (In
+  // camera 0's view, as every region here should be.)
+  const RobotState y = robot(Team::Yellow, 0, -1.0, -0.5, 30);
   const Region tag = regionsOf(p, {y}).front();
   ASSERT_EQ(tag.color, ColorClass::Yellow);
   Region piece = ballRegion(kCamera, Eigen::Vector3d(y.x, y.y, 0.0215));
@@ -703,7 +704,7 @@ TEST(BallDetection, PartsOfLargerBlobsAreNoBallsAndABallBesideATeamTagIs) {
 // not a team marker the ball would be part of; a ring much wider than a rim is not.
 TEST(BallDetection, ABallWhoseRimReadYellowIsABall) {
   const BallDetector detector(kCamera, kField);
-  const Eigen::Vector3d ball(1.2, -0.8, 0.0215);
+  const Eigen::Vector3d ball(-1.2, -0.8, 0.0215);  // in camera 0's view
   const Eigen::Vector2d centre = *kCamera.project(ball);
   const Eigen::Vector3d w = ball - kCamera.cameraCentre();
   auto ring = [&](double inner, double outer) {
