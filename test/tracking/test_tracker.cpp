@@ -611,7 +611,9 @@ TEST(Tracker, AStillObjectOutsideTheLinesIsNoBall) {
   for (int n = 1; n <= 30; ++n, ++k) {
     tracker.update(frame(kT0 + k * kDt, 0, {}, {ball(0.58, -3.28 + 0.01 * n, 0.9)}));
     out = tracker.output();
-    if (n <= 5) EXPECT_EQ(out.primaryBall(), nullptr) << "frame " << n << ": moved " << 0.01 * n << " m";
+    if (n <= 5) {
+      EXPECT_EQ(out.primaryBall(), nullptr) << "frame " << n << ": moved " << 0.01 * n << " m";
+    }
     output_again = output_again || out.primaryBall() != nullptr;
   }
   ASSERT_TRUE(output_again);
