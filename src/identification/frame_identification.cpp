@@ -16,14 +16,16 @@ void FrameIdentifier::setParams(const IdentificationParams& params) {
 
 CameraFrameDetections FrameIdentifier::identify(const std::vector<Region>& regions, double stamp,
                                                 int camera_id, bool global_search,
-                                                std::vector<int>* confirmed) const {
+                                                std::vector<int>* confirmed, RecentIdentities* recent) const {
   CameraFrameDetections out;
   out.stamp = stamp;
   out.camera_id = camera_id;
   out.global_search = global_search;
-  RobotIdentificationResult robots = robots_.identify(regions);
+  RobotIdentificationResult robots = robots_.identify(regions, recent, stamp);
   out.robots = std::move(robots.robots);
   out.rejections = robots.rejections;
+  out.recalled_ids = robots.recalled_ids;
+  out.small_marker_robots = robots.small_marker_robots;
   out.rejected_robots = std::move(robots.rejected);
   out.balls = balls_.detect(regions, robots.region_used, &out.rejections, out.robots);
   if (confirmed) {

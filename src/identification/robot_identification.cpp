@@ -43,7 +43,9 @@ struct Hypothesis {
   int team = -1;              // index into observed
   std::vector<int> slot_obs;  // per slot: index into observed, -1 = missing
   Pose2d pose;
-  int id = -1;  // -1: unknown (ambiguous or no id markers)
+  int id = -1;                // -1: unknown (ambiguous or no id markers)
+  bool recalled = false;      // the id came from RecentIdentities
+  bool small_marker = false;  // a marker below its area gate
   bool heading_valid = false;
   double confidence = 0;
 
@@ -87,10 +89,13 @@ class AssignmentSet {
 class Matcher {
  public:
   Matcher(const CameraModel& camera, const PatternSet& pattern, const RobotIdentificationParams& params,
-          const std::vector<Region>& regions, double axis_weight)
+          const std::vector<Region>& regions, double axis_weight, const RecentIdentities* recent,
+          double stamp)
       : camera_(camera),
         pattern_(pattern),
         params_(params),
+        recent_(recent),
+        stamp_(stamp),
         axis_weight_(axis_weight),
         height_(pattern.heights()) {
     const std::size_t n_slots = pattern.slots.size();
@@ -386,19 +391,24 @@ class Matcher {
       cost += l * l;
       ++terms;
     }
-    // Ids compatible with the colours seen: how many, and the first.
-    int n_compatible = 0, first_compatible = -1;
+    // Ids compatible with the colours seen.
+    compatible_.clear();
     for (std::size_t id = 0; id < pattern_.ids.size(); ++id) {
       bool ok = true;
       for (std::size_t s = 0; s < h.slot_obs.size() && ok; ++s) {
         if (h.slot_obs[s] >= 0) ok = pattern_.ids[id][s] == observed_[h.slot_obs[s]].color;
       }
-      if (ok && n_compatible++ == 0) first_compatible = static_cast<int>(id);
+      if (ok) compatible_.push_back(static_cast<int>(id));
     }
     const bool has_ids = !pattern_.ids.empty();
-    if (has_ids && n_compatible == 0) return RejectionCause::Id;
-    const bool id_known = has_ids && n_compatible == 1 && missing <= params_.max_missing_markers;
-    h.id = id_known ? first_compatible : -1;
+    if (has_ids && compatible_.empty()) return RejectionCause::Id;
+    const bool complete_enough = missing <= params_.max_missing_markers;
+    h.id = has_ids && compatible_.size() == 1 && complete_enough ? compatible_.front() : -1;
+    if (h.id < 0 && compatible_.size() > 1 && complete_enough && h.heading_valid && recent_) {
+      h.id = recent_->recall(team_id, compatible_, h.pose.x, h.pose.y, h.pose.theta, stamp_, params_.recall);
+      h.recalled = h.id >= 0;
+    }
+    const bool id_known = h.id >= 0;
     if (has_ids && !id_known && !params_.report_unidentified) return RejectionCause::Id;
 
     // A team marker amid a complete pattern of three or more id markers, each where the fit
@@ -414,12 +424,12 @@ class Matcher {
     // 9052: a yellow team tag at 5 m/s, 0.1-0.28). Its robot is unsure
     // (small_marker_confidence): it measures its own track, but begins none.
     const double g = params_.area_ratio_gate;
-    bool small_marker = false;
+    h.small_marker = false;
     auto areaPasses = [&](double ratio, double gate) {
       if (inGate(ratio, gate)) return true;
       if (params_.small_marker_confidence <= 0 || ratio <= 0 || ratio >= 1.0 / gate || ratio < 1.0 / (g * g))
         return false;
-      small_marker = true;
+      h.small_marker = true;
       return true;
     };
     if (!areaPasses(area(pattern_.team_marker, team), team_gate)) return RejectionCause::Area;
@@ -431,7 +441,8 @@ class Matcher {
     h.confidence =
         std::exp(-0.5 * cost / std::max(terms, 1)) * std::pow(params_.missing_marker_factor, missing);
     if (has_ids && !id_known) h.confidence = std::min(h.confidence, 0.2);
-    if (small_marker) h.confidence = std::min(h.confidence, params_.small_marker_confidence);
+    if (h.small_marker) h.confidence = std::min(h.confidence, params_.small_marker_confidence);
+    if (h.recalled) h.confidence = std::min(h.confidence, params_.recalled_confidence);
     if (h.confidence < params_.min_confidence) return RejectionCause::Confidence;
     return std::nullopt;
   }
@@ -467,8 +478,10 @@ class Matcher {
   const CameraModel& camera_;
   const PatternSet& pattern_;
   const RobotIdentificationParams& params_;
-  const double axis_weight_;  // the team-tag axis' share for these regions
-  const TeamHeights height_;  // the teams' marker planes
+  const RecentIdentities* recent_;  // this camera's memory (null: none)
+  const double stamp_;              // capture stamp of the regions' frame
+  const double axis_weight_;        // the team-tag axis' share for these regions
+  const TeamHeights height_;        // the teams' marker planes
   Eigen::Vector2d team_pos_;
   double team_weight_ = 0;                 // team tag area: its weight in the fit
   std::vector<Eigen::Vector2d> slot_pos_;  // slot centres, robot frame
@@ -484,6 +497,7 @@ class Matcher {
   // Scratch (one Matcher per identify() call, used by one thread).
   mutable std::vector<SlotPair> pairs_;
   mutable std::vector<int> slot_scratch_;
+  mutable std::vector<int> compatible_;  // ids the colours seen fit (evaluate())
   mutable std::vector<Eigen::Vector2d> fit_model_, fit_obs_;
   mutable std::vector<double> fit_w_;
   mutable std::vector<Eigen::Vector3d> outline_;  // dropCutSlots' marker outline
@@ -495,8 +509,9 @@ RobotIdentifier::RobotIdentifier(const CameraModel& camera, const PatternSet& pa
                                  const RobotIdentificationParams& params)
     : camera_(camera), patterns_(patterns), params_(params) {}
 
-RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions) const {
-  const Matcher m(camera_, patterns_, params_, regions, params_.axis_weight);
+RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& regions,
+                                                    RecentIdentities* recent, double stamp) const {
+  const Matcher m(camera_, patterns_, params_, regions, params_.axis_weight, recent, stamp);
   const auto& obs = m.observed();
   std::vector<char> used(obs.size(), 0);
   std::set<std::pair<Team, int>> taken;
@@ -567,9 +582,12 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     const Region& team_region = regions[obs[h.team].region];
     d.pixel = px ? *px : Eigen::Vector2d(team_region.cx, team_region.cy);
     out.robots.push_back(d);
+    out.recalled_ids += h.recalled;
+    out.small_marker_robots += h.small_marker;
   }
   std::sort(out.robots.begin(), out.robots.end(),
             [](const RobotDetection& a, const RobotDetection& b) { return a.confidence > b.confidence; });
+  if (recent) recent->remember(out.robots, stamp, params_.recall);
   return out;
 }
 

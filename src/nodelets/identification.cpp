@@ -39,6 +39,10 @@ IdentificationParams toIdentificationParams(const IdentificationConfig& c) {
   p.robots.marker_gate = c.marker_gate;
   p.robots.area_ratio_gate = c.area_ratio_gate;
   p.robots.small_marker_confidence = c.small_marker_confidence;
+  p.robots.recall.max_age = c.recall_age;
+  p.robots.recall.max_distance = c.recall_distance;
+  p.robots.recall.max_heading_deg = c.recall_heading_deg;
+  p.robots.recalled_confidence = c.recalled_confidence;
   p.robots.axis_weight = c.axis_weight;
   p.robots.min_confidence = c.min_confidence;
   p.robots.max_missing_markers = c.max_missing_markers;
@@ -104,6 +108,10 @@ class IdentificationNodelet : public nodelet::Nodelet {
   std::uint64_t dropped_no_camera_ = 0, dropped_other_camera_ = 0, dropped_error_ = 0;
   std::uint64_t camera_info_refused_ = 0;
   RejectionCounts rejections_;  // candidates identification did not report, since start, by cause
+  std::uint64_t recalled_ids_ = 0, small_marker_robots_ = 0;  // reported with reservations, since start
+  // The robots this camera identified in its last frames. Only the blobs callback uses it,
+  // and ROS runs one subscription's callbacks one at a time.
+  RecentIdentities recent_;
 };
 
 void IdentificationNodelet::onInit() {
@@ -247,6 +255,7 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   }
   auto out = boost::make_shared<CameraDetections>();
   RejectionCounts rejections;
+  int recalled_ids = 0, small_marker_robots = 0;
   // Lazy: the confirmed markers only when Segmentation learns from them.
   const bool confirm = confirmed_pub_.getNumSubscribers() > 0;
   std::vector<int> confirmed;
@@ -254,9 +263,11 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   try {
     const CameraFrameDetections d =
         identifier->identify(regions, blobs->header.stamp.toSec(), camera_id_, blobs->global_search,
-                             confirm ? &confirmed : nullptr);
+                             confirm ? &confirmed : nullptr, &recent_);
     toCameraDetections(d, blobs->header, *out);
     rejections = d.rejections;
+    recalled_ids = d.recalled_ids;
+    small_marker_robots = d.small_marker_robots;
   } catch (const std::exception& e) {
     NODELET_ERROR_THROTTLE(5.0, "identification failed: %s; frame dropped", e.what());
     drop(dropped_error_);
@@ -283,6 +294,8 @@ void IdentificationNodelet::blobsCallback(const BlobArrayConstPtr& blobs) {
   window_robots_ += out->robots.size();
   window_balls_ += out->balls.size();
   rejections_ += rejections;
+  recalled_ids_ += static_cast<std::uint64_t>(recalled_ids);
+  small_marker_robots_ += static_cast<std::uint64_t>(small_marker_robots);
   window_ms_sum_ += ms;
   window_ms_max_ = std::max(window_ms_max_, ms);
 }
@@ -311,6 +324,9 @@ void IdentificationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrap
   // Candidates (team-colour regions, orange clusters) not reported, since start, by cause.
   for (const auto& [name, count] : rejections_.named(false))
     stat.add(std::string("rejected: ") + name, count);
+  // Robots reported, but unsure enough to begin no track (their confidence is capped).
+  stat.add("reported unsure: id recalled from the last frames", recalled_ids_);
+  stat.add("reported unsure: a marker below its area gate", small_marker_robots_);
   stat.add("pattern", pattern_name_);
   stat.add("camera pose", !pose_file_path_.empty()
                               ? "file " + pose_file_path_ + (pose_file_ ? "" : " (not loaded yet)")

@@ -125,7 +125,7 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   frame.windows = segmented_.windows.size();
   const bool learning = params_.online_calibration.enabled;
   frame.detections = state.identifier.identify(segmented_.regions, stamp, camera_id, segmented_.global_search,
-                                               learning ? &state.confirmed : nullptr);
+                                               learning ? &state.confirmed : nullptr, &state.recent);
   const auto t1 = Clock::now();
 
   frame.prediction = tracker_.predictions(stamp);

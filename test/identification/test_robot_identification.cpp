@@ -436,6 +436,58 @@ TEST(RobotIdentification, SslMissingDotIdOnlyWhenUnambiguous) {
   EXPECT_EQ(found8b[0].id, 6);
 }
 
+// Held-out seed 9052's rand_bayer_ssl: small dots at the far edge of a Bayer image, one of
+// four lost in a frame, three fitting two ids; the robot was identified in the frame before.
+TEST(RobotIdentification, AnAmbiguousSslRobotTakesTheIdItHadThereInTheLastFrames) {
+  const PatternSet p = PatternSet::ssl();
+  const RobotIdentifier id(kCamera, p);
+  auto missingFrontRight = [](std::size_t r, std::size_t m) { return r == 0 && m == 1; };
+  const RobotState before = robot(Team::Yellow, 5, -1.5, -1.5, 30);
+  RobotState now = before;  // 2 m/s along x and turning, a frame later
+  now.x += 2.0 / 60;
+  now.theta += 2 * kDeg;
+  const RobotState teammate = robot(Team::Yellow, 9, -1.5 + 0.25, -1.2, 75);
+
+  RecentIdentities recent;
+  const auto first = id.identify(regionsOf(p, {before, teammate}), &recent, 10.0);
+  ASSERT_EQ(first.robots.size(), 2u);
+  EXPECT_EQ(first.recalled_ids, 0);
+  const auto second = id.identify(regionsOf(p, {now, teammate}, missingFrontRight), &recent, 10.0 + 1.0 / 60);
+  const RobotDetection* five = find(second.robots, Team::Yellow, 5);
+  ASSERT_TRUE(five);
+  EXPECT_EQ(second.recalled_ids, 1);
+  EXPECT_LE(five->confidence, id.params().recalled_confidence);
+  EXPECT_LT(std::hypot(five->x - now.x, five->y - now.y), 0.0005);
+  EXPECT_LT(std::abs(angleDifference(five->theta, now.theta)), 0.2 * kDeg);
+  // And in the frame after, again from the recalled sighting.
+  RobotState later = now;
+  later.x += 2.0 / 60;
+  const auto third =
+      id.identify(regionsOf(p, {later, teammate}, missingFrontRight), &recent, 10.0 + 2.0 / 60);
+  EXPECT_TRUE(find(third.robots, Team::Yellow, 5));
+
+  // Without a memory, from a robot of the team seen elsewhere, or too long ago: no id.
+  EXPECT_FALSE(find(id.identify(regionsOf(p, {now, teammate}, missingFrontRight)).robots, Team::Yellow, 5));
+  RecentIdentities elsewhere;
+  id.identify(regionsOf(p, {robot(Team::Yellow, 5, -0.5, -1.5, 30), teammate}), &elsewhere, 10.0);
+  const auto far = id.identify(regionsOf(p, {now, teammate}, missingFrontRight), &elsewhere, 10.0 + 1.0 / 60);
+  EXPECT_FALSE(find(far.robots, Team::Yellow, 5));
+  EXPECT_EQ(far.rejections[RejectionCause::Id], 1);
+  RecentIdentities old;
+  id.identify(regionsOf(p, {before, teammate}), &old, 10.0);
+  EXPECT_FALSE(find(id.identify(regionsOf(p, {now, teammate}, missingFrontRight), &old, 10.5).robots,
+                    Team::Yellow, 5));
+  // Off: rejected as before.
+  RobotIdentificationParams off;
+  off.recall.max_age = 0;
+  const RobotIdentifier id_off(kCamera, p, off);
+  RecentIdentities unused;
+  id_off.identify(regionsOf(p, {before, teammate}), &unused, 10.0);
+  EXPECT_FALSE(
+      find(id_off.identify(regionsOf(p, {now, teammate}, missingFrontRight), &unused, 10.0 + 1.0 / 60).robots,
+           Team::Yellow, 5));
+}
+
 TEST(RobotIdentification, ACompletePatternVouchesForAShrunkenTeamMarker) {
   // Held-out seed 9028: a robot's yellow was another print, and only a fifth of its centre
   // dot read yellow. Amid four id dots where the fit puts them it is still the team dot;

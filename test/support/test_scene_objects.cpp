@@ -19,4 +19,13 @@ TEST(SceneObjects, RobotsCarryWhatTheyAreGiven) {
   EXPECT_DOUBLE_EQ(r.y, 0.75);
   EXPECT_EQ(r.visible, std::optional<bool>(false));
   EXPECT_TRUE(test::robotRecord(Team::Blue, 0, 0, 0).visible.value_or(false));
+  const RobotDetection d = test::robotDetection(Team::Yellow, 2, 0.5, -0.25, 1.0, 0.7);
+  EXPECT_EQ(d.team, Team::Yellow);
+  EXPECT_EQ(d.id, 2);
+  EXPECT_DOUBLE_EQ(d.x, 0.5);
+  EXPECT_DOUBLE_EQ(d.y, -0.25);
+  EXPECT_DOUBLE_EQ(d.theta, 1.0);
+  EXPECT_TRUE(d.heading_valid);
+  EXPECT_DOUBLE_EQ(d.confidence, 0.7);
+  EXPECT_FALSE(test::robotDetection(Team::Blue, -1, 0, 0, 0).heading_valid);
 }

@@ -9,6 +9,7 @@
 #include "soccer_vision/tracking/frame_step.h"
 #include "soccer_vision/tracking/global_search_policy.h"
 #include "soccer_vision/tracking/tracker.h"
+#include "support/scene_objects.h"
 
 using namespace soccer_vision;
 
@@ -18,15 +19,7 @@ constexpr double kDt = 1.0 / 60;
 constexpr double kT0 = 1700000000.0;
 
 RobotDetection robot(Team team, int id, double x, double y, double theta = 0.0) {
-  RobotDetection d;
-  d.team = team;
-  d.id = id;
-  d.x = x;
-  d.y = y;
-  d.theta = theta;
-  d.heading_valid = id >= 0;
-  d.confidence = 0.9;
-  return d;
+  return test::robotDetection(team, id, x, y, theta);
 }
 
 BallDetection ball(double x, double y, double confidence = 0.8) {

@@ -45,6 +45,10 @@ struct CameraFrameDetections {
   std::vector<RobotDetection> robots;
   std::vector<BallDetection> balls;  // candidates, best first
   RejectionCounts rejections;        // candidates not reported, by cause
+  // Robots reported with reservations (RobotIdentificationResult): an id recalled from the
+  // camera's last frames, a marker below its area gate.
+  int recalled_ids = 0;
+  int small_marker_robots = 0;
   // The robot candidates among them with a place (those off the plane have none); in-process
   // only (evaluate's misses, detect), not in the CameraDetections message.
   std::vector<RejectedRobotCandidate> rejected_robots;

@@ -28,9 +28,11 @@ class FrameIdentifier {
   const CameraModel& camera() const { return robots_.camera(); }
 
   // `confirmed` (optional): set to the indices of the regions that belong to robots
-  // reported with at least confirm_confidence.
+  // reported with at least confirm_confidence. `recent` (optional): the camera's memory of
+  // identified robots, read for markers that fit several ids and updated with this frame's.
   CameraFrameDetections identify(const std::vector<Region>& regions, double stamp = 0, int camera_id = 0,
-                                 bool global_search = true, std::vector<int>* confirmed = nullptr) const;
+                                 bool global_search = true, std::vector<int>* confirmed = nullptr,
+                                 RecentIdentities* recent = nullptr) const;
 
  private:
   IdentificationParams params_;

@@ -19,7 +19,9 @@
 // paper's minimum-sum-of-distances pairing with gating instead of unconditional pairing.
 //
 // Ids come from the colours of the matched slots (PatternSet::ids). With a missing slot
-// the id is given only when exactly one id is compatible with the slots seen; with the
+// the id is given only when exactly one id is compatible with the slots seen, or when
+// this camera identified a robot of the team with one of the compatible ids where this one
+// is, facing its way, in its last frames (RecentIdentities); with the
 // two-tag pattern a robot whose role tag is missing has no id and no heading: it is not
 // reported (or, with report_unidentified, reported with id -1, heading_valid = false and
 // a confidence of at most 0.2). A wrong id is never preferred to no id.
@@ -31,6 +33,7 @@
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/detections.h"
 #include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/identification/recent_identities.h"
 #include "soccer_vision/segmentation/region_extractor.h"
 
 namespace soccer_vision {
@@ -57,6 +60,11 @@ struct RobotIdentificationParams {
   // of its robot (or, misread, the one it lies on) and begins none. 0 = such a robot is
   // rejected (`area`).
   double small_marker_confidence = 0.15;
+  // A robot whose markers fit several ids (a missing SSL dot) takes the one of them that
+  // the robot of its team last seen there had (RecentIdentities), with at most
+  // recalled_confidence: it measures its track and begins none.
+  RecallParams recall;
+  double recalled_confidence = 0.15;
   int max_missing_markers = 1;         // id markers a robot may lack and still be reported
   double missing_marker_factor = 0.5;  // confidence factor per missing id marker
   double min_confidence = 0.05;        // hypotheses below are dropped
@@ -70,6 +78,8 @@ struct RobotIdentificationResult {
   // Team-colour regions that ended in no robot, by the furthest check their best
   // hypothesis passed (Unpaired: none formed; Conflict: a better robot took its regions).
   RejectionCounts rejections;
+  int recalled_ids = 0;         // reported robots whose id was recalled (RecentIdentities)
+  int small_marker_robots = 0;  // reported robots with a marker below its area gate
   // Those of them that were projected, each with its cause, as `rejections` counts it.
   std::vector<RejectedRobotCandidate> rejected;
 };
@@ -83,8 +93,11 @@ class RobotIdentifier {
   const PatternSet& patterns() const { return patterns_; }
   const CameraModel& camera() const { return camera_; }
 
-  // Regions in raw image pixel coordinates (SegmentationResult::regions).
-  RobotIdentificationResult identify(const std::vector<Region>& regions) const;
+  // Regions in raw image pixel coordinates (SegmentationResult::regions). With `recent`
+  // (this camera's memory; the frame's capture `stamp`), a robot whose markers fit several
+  // ids may take one from it, and the frame's identified robots are remembered.
+  RobotIdentificationResult identify(const std::vector<Region>& regions, RecentIdentities* recent = nullptr,
+                                     double stamp = 0) const;
 
  private:
   CameraModel camera_;

@@ -108,6 +108,7 @@ class VisionPipeline {
     SearchPlanner planner;
     OnlineCalibration learning;
     std::vector<int> confirmed;      // scratch: the regions identification confirmed
+    RecentIdentities recent;         // the robots identification saw in this camera's last frames
     std::optional<SearchPlan> next;  // for the next processed frame; none before the first
   };
 
