@@ -61,6 +61,7 @@ void validate(const TrackerParams& p) {
   if (p.ball_confirm_outside < 1) throw std::invalid_argument("tracker: ball_confirm_outside must be >= 1");
   positive(p.ball_confirm_within, "ball_confirm_within");
   unit(p.outside_min_confidence, "outside_min_confidence");
+  unit(p.ball_kick_min_confidence, "ball_kick_min_confidence");
   auto offset = [](double v, const std::string& name) {
     if (!(std::abs(v) <= 0.1)) {
       throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " +
@@ -393,6 +394,7 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, Tracke
       const BallGate gate = t.filter.classify(p.x(), p.y(), since, lag);
       if (gate == BallGate::Rejected || (best_in_gate && gate == BallGate::Kick)) continue;
       if (gate == BallGate::Kick && since > p_.out_of_play_kick_window && !inPlay(*candidates[ci])) continue;
+      if (gate == BallGate::Kick && candidates[ci]->confidence < p_.ball_kick_min_confidence) continue;
       const double score = gate == BallGate::Accepted ? t.filter.distance2(p.x(), p.y(), lag)
                                                       : (p - t.filter.state().head<2>()).norm();
       if ((gate == BallGate::Accepted && !best_in_gate) || score < best_score) {

@@ -292,6 +292,38 @@ TEST(Tracker, BallKickIsTrackedWithoutLosingTheTrack) {
   EXPECT_EQ(tracker.output().balls.size(), 2u);  // the stray blob is an alternative, not the ball
 }
 
+// Held-out seed 9058's rand_bayer_ssl: the ball hidden beside a robot for two frames, and a
+// Bayer fringe of 16 px on the centre circle, 0.46 m away, read as a ball at 0.08.
+TEST(Tracker, AnUnsureCandidateBeyondTheGateIsNoKick) {
+  for (const double confidence : {0.08, 0.9}) {
+    Tracker tracker;
+    for (int k = 0; k < 30; ++k) tracker.update(frame(kT0 + k * kDt, 0, {}, {ball(-0.40, -0.06)}));
+    const int id = tracker.output().primaryBall()->track_id;
+    tracker.update(frame(kT0 + 30 * kDt, 0, {}, {}));  // hidden
+    const auto report = tracker.update(frame(kT0 + 31 * kDt, 0, {}, {ball(-0.17, -0.46, confidence)}));
+    const auto out = tracker.output();
+    const auto* b = out.primaryBall();
+    if (confidence < tracker.params().ball_kick_min_confidence) {
+      EXPECT_EQ(report.ball_kicks, 0);
+      // The fringe is a track of its own, not the ball (which, hidden, is withheld).
+      ASSERT_EQ(out.balls.size(), 1u);
+      EXPECT_NE(out.balls[0].track_id, id);
+      EXPECT_FALSE(out.balls[0].primary);
+      // The ball seen again where it was is the ball it was.
+      tracker.update(frame(kT0 + 32 * kDt, 0, {}, {ball(-0.40, -0.06), ball(-0.17, -0.46, confidence)}));
+      const auto again = tracker.output();
+      ASSERT_NE(again.primaryBall(), nullptr);
+      EXPECT_EQ(again.primaryBall()->track_id, id);
+      EXPECT_TRUE(again.primaryBall()->visible);
+    } else {
+      EXPECT_EQ(report.ball_kicks, 1);  // a sure one is the ball kicked there
+      ASSERT_NE(b, nullptr);
+      EXPECT_EQ(b->track_id, id);
+      EXPECT_LT(std::hypot(b->x + 0.17, b->y + 0.46), 0.01);
+    }
+  }
+}
+
 TEST(Tracker, BallFallsBackToTheBestCandidateWithoutATrack) {
   Tracker tracker;
   tracker.update(frame(kT0, 0, {}, {ball(2.0, 1.0, 0.9), ball(-1.0, 0.0, 0.4)}));
