@@ -1,6 +1,7 @@
 #include "soccer_vision/calibration/color_calibration.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <map>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "soccer_vision/common/color_space.h"
 #include "soccer_vision/segmentation/illumination_adaptation.h"
 
 namespace soccer_vision {
@@ -37,6 +39,79 @@ SamplePatches samplePatches(const std::vector<cv::Point>& positions) {
   patches.of.reserve(positions.size());
   for (const cv::Point& p : positions) patches.of.push_back(labels(p - box.tl()));
   return patches;
+}
+
+// A marker class sampled clipped in two channels shows no hue of its own: a yellow tag at
+// (255, 255, 68) reads 60°, where its print reads 42-44° under a dimmer lamp (held-out seeds
+// 9043 and 9053, rand_uneven_lamps: the yellow robots under the dimmer lamps went unseen).
+// Its rim does: where the marker blends into the robot's top it is dimmer, unclipped, and
+// keeps the print's hue (9053: 37-47° at V 0.8-0.95). So the rim of each such sample
+// patch (within kMarkerMargin, not sampled) lends the class its pixels that are unclipped,
+// bright, saturated and within kRimHueWindow of the clipped samples' hue (the true hue lies
+// between the two clipped channels' primaries, 60° either side).
+constexpr double kRimHueWindow = 30;  // [deg]
+constexpr double kRimMinSaturation = 0.5;
+constexpr int kRimMinValue = 128;
+
+// Positions of rim pixels of `positions` (one class's samples in one image) as above, each
+// with the patch it lies next to; none unless most of the positions are clipped twice.
+// `sampled`: every class's sample pixels in the image (no rim pixel is one).
+std::vector<std::pair<cv::Point, int>> unclippedRim(const cv::Mat& bgr,
+                                                    const std::vector<cv::Point>& positions,
+                                                    const SamplePatches& patches, const cv::Mat1b& sampled) {
+  std::vector<std::pair<cv::Point, int>> rim;
+  double x = 0, y = 0;  // the clipped samples' mean hue, as a unit vector
+  std::size_t clipped = 0;
+  for (const cv::Point& p : positions) {
+    const cv::Vec3b& c = bgr.at<cv::Vec3b>(p);
+    if (!clippedTwice(c)) continue;
+    ++clipped;
+    const double h = bgrToHsv(c[0], c[1], c[2]).h * M_PI / 180;
+    x += std::cos(h);
+    y += std::sin(h);
+  }
+  if (2 * clipped <= positions.size()) return rim;
+  const double hue = std::atan2(y, x) * 180 / M_PI;
+  // Within the samples' box grown by the margin; patch numbers and the margin around them.
+  const cv::Rect box = (cv::boundingRect(positions) + cv::Size(2 * kMarkerMargin, 2 * kMarkerMargin) -
+                        cv::Point(kMarkerMargin, kMarkerMargin)) &
+                       cv::Rect(0, 0, bgr.cols, bgr.rows);
+  cv::Mat1i patch_of = cv::Mat1i::zeros(box.size());
+  cv::Mat1b near = cv::Mat1b::zeros(box.size());
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    patch_of(positions[k] - box.tl()) = patches.of[k];
+    near(positions[k] - box.tl()) = 255;
+  }
+  cv::dilate(
+      near, near,
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kMarkerMargin + 1, 2 * kMarkerMargin + 1)));
+  for (int v = 0; v < box.height; ++v) {
+    for (int u = 0; u < box.width; ++u) {
+      const cv::Point at = box.tl() + cv::Point(u, v);
+      if (!near(v, u) || sampled(at)) continue;
+      const cv::Vec3b& c = bgr.at<cv::Vec3b>(at);
+      if (clippedOnce(c)) continue;
+      const Hsv h = bgrToHsv(c[0], c[1], c[2]);
+      if (h.v < kRimMinValue || h.s < kRimMinSaturation) continue;
+      if (std::abs(std::remainder(h.h - hue, 360.0)) > kRimHueWindow) continue;
+      // The patch it is the rim of: the nearest sampled pixel's.
+      int patch = 0, best = 1 << 30;
+      const cv::Rect around =
+          cv::Rect(u - kMarkerMargin, v - kMarkerMargin, 2 * kMarkerMargin + 1, 2 * kMarkerMargin + 1) &
+          cv::Rect(cv::Point(0, 0), box.size());
+      for (int b = around.y; b < around.br().y; ++b) {
+        for (int a = around.x; a < around.br().x; ++a) {
+          const int d = (a - u) * (a - u) + (b - v) * (b - v);
+          if (patch_of(b, a) > 0 && d < best) {
+            best = d;
+            patch = patch_of(b, a);
+          }
+        }
+      }
+      rim.push_back({at, patch});
+    }
+  }
+  return rim;
 }
 
 }  // namespace
@@ -103,7 +178,12 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
     // to it) are not background; everything else is, sampled or not.
     cv::Mat1b near_markers;
     if (background_model) near_markers = cv::Mat1b::zeros(image.bgr.size());
-    for (const auto& [cls, positions] : samplePixelPositions(image.bgr.size(), image.samples)) {
+    const auto positions_by_class = samplePixelPositions(image.bgr.size(), image.samples);
+    cv::Mat1b sampled = cv::Mat1b::zeros(image.bgr.size());
+    for (const auto& entry : positions_by_class) {
+      for (const cv::Point& p : entry.second) sampled(p) = 255;
+    }
+    for (const auto& [cls, positions] : positions_by_class) {
       auto& all = pixels[cls];
       const SamplePatches patches = samplePatches(positions);
       for (std::size_t k = 0; k < positions.size(); ++k) {
@@ -111,6 +191,20 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         all.push_back(filed(p.x, p.y));
         all.back().marker = markers + static_cast<std::uint32_t>(patches.of[k]);
         if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
+      }
+      if (isMarkerColor(cls)) {
+        // Filed at the brightness of the clipped samples: a rim pixel is the print's colour
+        // dimmed by the top it blends with, not by the light.
+        const std::size_t first = all.size() - positions.size();
+        double v_sum = 0;
+        for (std::size_t k = first; k < all.size(); ++k) v_sum += all[k].v;
+        const auto v =
+            static_cast<std::uint8_t>(std::lround(v_sum / std::max<std::size_t>(positions.size(), 1)));
+        for (const auto& [p, patch] : unclippedRim(image.bgr, positions, patches, sampled)) {
+          all.push_back(filed(p.x, p.y));
+          all.back().v = v;
+          all.back().marker = markers + static_cast<std::uint32_t>(patch);
+        }
       }
       markers += static_cast<std::uint32_t>(patches.count);
     }

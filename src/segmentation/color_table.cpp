@@ -784,6 +784,10 @@ bool clippedTwice(const cv::Vec3b& p) {
   return (p[0] >= kClipLevel) + (p[1] >= kClipLevel) + (p[2] >= kClipLevel) >= 2;
 }
 
+bool clippedOnce(const cv::Vec3b& p) {
+  return p[0] >= kClipLevel || p[1] >= kClipLevel || p[2] >= kClipLevel;
+}
+
 std::map<ColorClass, std::vector<cv::Point>> samplePixelPositions(cv::Size image_size,
                                                                   const ColorSamples& samples) {
   checkColorSamples(samples);  // NaN/huge vertices would overflow the int casts below

@@ -305,3 +305,58 @@ TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
   std::printf("[ all randomised  ] marker interiors: exact %.3f %%, strokes %.3f %%\n",
               100 * total[0].markers(), 100 * total[1].markers());
 }
+
+// Held-out seed 9053 of rand_uneven_lamps (spent): the calibration frame (71, the first
+// showing every colour) had its yellow tags under the brightest lamp only, clipped in two
+// channels; under the dimmer lamps the print reads 42-44°, and the yellow robots there went
+// unseen (measured 89.1 %). The clipped tags' rims lend the class their hue
+// (calibrateColorTable, docs/calibration.md): the yellow interiors of the frames after are
+// classified (without the rims: 88.2 %, 93.0 % after the opening). What the wider yellow
+// also claims, single noisy pixels of the floor beyond the carpet (0.36 -> 0.62 % of the
+// background), the opening removes, as the regions see the labels.
+TEST(OneFrameTable, AColourSampledOnlyClippedIsSeenUnderDimmerLamps) {
+  ScenarioConfig scenario = preset("rand_uneven_lamps");
+  scenario.seed = 9053;
+  const FieldGeometry field;
+  const PatternSet patterns = patternSetByName(scenario.pattern);
+  const CameraModel camera = scenarioCamera(field, 0, scenario);
+  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  const FieldRenderer renderer(camera, field, patterns, scenario);
+  const int calibration_frame = 71;
+  for (int i = 0; i < calibration_frame; ++i) sim.step(1.0 / scenario.fps);
+  RenderedFrame frame;
+  renderer.render(sim.state(), calibration_frame, frame);
+  const ColorSamples samples =
+      calibrationSamples(extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)), camera, field,
+                         patterns, SampleOptions::drawnByUser(2));
+  const std::vector<CalibrationImage> images{{frame.image, samples}};
+  ASSERT_EQ(classesSampledClipped(images), std::vector<ColorClass>{ColorClass::Yellow});
+  const auto model =
+      SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateColorTable(images)));
+  std::set<ColorClass> sampled;
+  for (const auto& [c, polygons] : samples) {
+    if (!polygons.empty()) sampled.insert(c);
+  }
+
+  Accuracy yellow, opened;
+  for (int i = calibration_frame + 1; i <= 220; ++i) {
+    sim.step(1.0 / scenario.fps);
+    if (i % 15) continue;
+    renderer.render(sim.state(), i, frame);
+    const cv::Mat1b truth =
+        renderer.renderLabels(extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)));
+    const cv::Mat1b labels = classifyAll(*model, frame.image, PixelLayout::Bgr, SegmentationParams{});
+    countMarkerInteriors(truth, labels, yellow, {ColorClass::Yellow});
+    const RegionParams q = labelParams(RegionParams{}, labels.cols);
+    countMarkerInteriors(truth, openedMarkers(labels, q.morph_kernel, q.min_area, scanGridStride(q)), opened,
+                         sampled);
+  }
+  std::printf(
+      "[ rand_uneven_lamps 9053 ] yellow interiors %.3f %% of %ld; after the opening: interiors %.3f %%, "
+      "background -> marker %.5f %%\n",
+      100 * yellow.markers(), static_cast<long>(yellow.interior), 100 * opened.markers(),
+      100 * opened.falsePositives());
+  EXPECT_GE(yellow.markers(), 0.98);
+  EXPECT_GE(opened.markers(), 0.99);
+  EXPECT_LE(opened.falsePositives(), 1e-4);
+}
