@@ -31,6 +31,8 @@ void validate(const BallFilterParams& p) {
   requirePositive(p.gate_d2, "gate_d2");
   if (!(p.kick_margin >= 0)) throw std::invalid_argument("ball filter: kick_margin must be >= 0");
   if (!(p.gate_min_distance >= 0)) throw std::invalid_argument("ball filter: gate_min_distance must be >= 0");
+  if (!(p.wall_x >= 0 && p.wall_y >= 0 && std::isfinite(p.wall_x) && std::isfinite(p.wall_y)))
+    throw std::invalid_argument("ball filter: wall_x and wall_y must be finite and >= 0 (0 = no walls)");
 }
 
 BallFilter::BallFilter(const BallFilterParams& params, double x, double y) : p_(params) {
@@ -47,6 +49,25 @@ void BallFilter::predicted(double dt, State& x, Covariance& P) const {
   x = F * x_;
   P = F * P_ * F.transpose() +
       constantVelocityProcessNoise<2>(Eigen::Vector2d(p_.accel_noise, p_.accel_noise), dt);
+  // Off the walls: position mirrored at the wall, velocity across it reversed (the
+  // covariance's terms between that axis and the other change sign with them).
+  const double walls[2] = {p_.wall_x, p_.wall_y};
+  for (int k = 0; k < 2; ++k) {
+    const double w = walls[k];
+    if (!(w > 0)) continue;
+    bool reflected = false;
+    // Bounced back and forth at most a few times in one prediction; beyond, left where it is.
+    for (int bounce = 0; bounce < 4 && std::abs(x(k)) > w; ++bounce) {
+      x(k) = (x(k) > 0 ? 1.0 : -1.0) * (2 * w - std::abs(x(k)));
+      x(k + 2) = -x(k + 2);
+      reflected = !reflected;
+    }
+    if (reflected) {
+      Eigen::Matrix4d J = Eigen::Matrix4d::Identity();
+      J(k, k) = J(k + 2, k + 2) = -1;
+      P = J * P * J.transpose();
+    }
+  }
 }
 
 void BallFilter::predict(double dt) {

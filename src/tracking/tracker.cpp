@@ -86,7 +86,7 @@ void Tracker::setParams(const TrackerParams& p) {
   p_ = p;
   timeline_.setParams(p.time);
   for (auto& t : robots_) t.filter.setParams(p.robot);
-  for (auto& t : balls_) t.filter.setParams(p.ball);
+  for (auto& t : balls_) t.filter.setParams(ballFilterParams(t.z));
   while (static_cast<int>(balls_.size()) > p_.max_ball_tracks) {
     // Keep the primary: drop the alternative measured least often.
     auto worst = balls_.end();
@@ -320,9 +320,9 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, Track
 
 void Tracker::startBall(const BallDetection& d, const CameraFrameDetections& frame,
                         TrackerUpdateReport& report) {
-  balls_.push_back(BallTrack{next_track_id_++, BallFilter(p_.ball, d.x, d.y), frame.stamp, timeline_.now(),
-                             frame.camera_id, clamp01(d.confidence), d.z, 1, 1.0, timeline_.now(),
-                             Eigen::Vector2d(d.x, d.y), 0.0});
+  balls_.push_back(BallTrack{next_track_id_++, BallFilter(ballFilterParams(d.z), d.x, d.y), frame.stamp,
+                             timeline_.now(), frame.camera_id, clamp01(d.confidence), d.z, 1, 1.0,
+                             timeline_.now(), Eigen::Vector2d(d.x, d.y), 0.0});
   if (primary_ball_ < 0) primary_ball_ = balls_.back().track_id;
   ++report.balls_created;
   report.measured_track_ids.push_back(balls_.back().track_id);
@@ -431,6 +431,15 @@ bool Tracker::inPlay(const BallDetection& d) const { return !p_.field || p_.fiel
 
 bool Tracker::confirmed(const BallTrack& t) const {
   return t.hits >= p_.ball_confirm_outside || !p_.field || p_.field->inPlayingArea(t.start.x(), t.start.y());
+}
+
+BallFilterParams Tracker::ballFilterParams(double z) const {
+  BallFilterParams b = p_.ball;
+  if (p_.field) {
+    b.wall_x = std::max(0.0, p_.field->halfLength() + p_.field->boundary - z);
+    b.wall_y = std::max(0.0, p_.field->halfWidth() + p_.field->boundary - z);
+  }
+  return b;
 }
 
 bool Tracker::parked(const BallTrack& t) const {

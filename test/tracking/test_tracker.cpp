@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "soccer_vision/common/angle.h"
+#include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/tracking/frame_step.h"
 #include "soccer_vision/tracking/global_search_policy.h"
 #include "soccer_vision/tracking/tracker.h"
@@ -321,6 +322,31 @@ TEST(Tracker, AnUnsureCandidateBeyondTheGateIsNoKick) {
       EXPECT_EQ(b->track_id, id);
       EXPECT_LT(std::hypot(b->x + 0.17, b->y + 0.46), 0.01);
     }
+  }
+}
+
+// With the field known, a ball track's predictions bounce off the walls at the carpet's edge
+// (4.8 m from the centre, less the ball's radius): the search windows look for the ball
+// where it comes back. Without it, straight on beyond the wall.
+TEST(Tracker, ABallUnseenAtTheWallIsPredictedBackOffIt) {
+  for (const bool field : {true, false}) {
+    TrackerParams p;
+    if (field) p.field = FieldGeometry{};
+    Tracker tracker(p);
+    for (int k = 0; k <= 5; ++k)
+      tracker.update(frame(kT0 + k * kDt, 0, {}, {ball(-4.45 - 3.0 * k * kDt, 1.5)}));
+    // Seen last at x -4.70, 3 m/s towards the wall; 0.1 s later.
+    const TrackerOutput later = tracker.predictions(kT0 + 11 * kDt);
+    ASSERT_EQ(later.balls.size(), 1u);
+    const TrackedBall& b = later.balls[0];
+    if (field) {
+      EXPECT_NEAR(b.x, -4.557, 0.02);  // 0.22 m off the wall at -4.7785
+      EXPECT_GT(b.vx, 2.5);
+    } else {
+      EXPECT_NEAR(b.x, -5.0, 0.02);
+      EXPECT_LT(b.vx, -2.5);
+    }
+    EXPECT_NEAR(b.y, 1.5, 0.01);
   }
 }
 

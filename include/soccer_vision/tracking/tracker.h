@@ -250,7 +250,10 @@ class Tracker {
     Eigen::Vector2d start;  // [m] filtered position after its first measurement
     double travel;          // [m] largest distance of the filtered position from start
   };
-  bool parked(const BallTrack& t) const;     // still, outside the playing area
+  bool parked(const BallTrack& t) const;  // still, outside the playing area
+  // The ball filter's parameters for a ball whose centre is at height z: with `field`, its
+  // walls at the carpet's edge less z (the ball's radius).
+  BallFilterParams ballFilterParams(double z) const;
   bool confirmed(const BallTrack& t) const;  // in play from the start, or seen often enough
   // At (x, y), outside the playing area with a running confidence below outside_min_confidence.
   bool unsureOutside(const BallTrack& t, double x, double y) const;
