@@ -62,6 +62,7 @@ void validate(const TrackerParams& p) {
   positive(p.ball_confirm_within, "ball_confirm_within");
   unit(p.outside_min_confidence, "outside_min_confidence");
   unit(p.ball_kick_min_confidence, "ball_kick_min_confidence");
+  unit(p.ball_min_start_confidence, "ball_min_start_confidence");
   auto offset = [](double v, const std::string& name) {
     if (!(std::abs(v) <= 0.1)) {
       throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " +
@@ -411,6 +412,10 @@ void Tracker::updateBalls(const CameraFrameDetections& frame, double lag, Tracke
   // would never get a track).
   for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
     if (used[ci]) continue;
+    if (candidates[ci]->confidence < p_.ball_min_start_confidence) {
+      ++report.unsure_starts;
+      continue;
+    }
     if (static_cast<int>(balls_.size()) >= p_.max_ball_tracks) {
       if (!inPlay(*candidates[ci])) continue;
       auto worst = balls_.end();
