@@ -101,10 +101,10 @@ struct TrackerParams {
   // [s] a ball unseen for longer is followed by a kick only to a candidate inside the playing area
   double out_of_play_kick_window = 0.02;
   // [0..1] a ball track follows a kick (a candidate beyond its gate) only to a candidate at
-  // least this sure; a weaker one begins a track of its own. Held-out seed 9058's
-  // rand_bayer_ssl: while the ball was hidden beside a robot, 16 px of a Bayer fringe on the
-  // centre circle (0.08) 0.46 m away became the ball. Balls' own candidates are surer: 7 of
-  // 5 226 on 31 spent recordings below 0.2, stray ones 0.08-0.39.
+  // least this sure (a weaker one, below ball_min_start_confidence, begins no track either). Held-out seed
+  // 9058's rand_bayer_ssl: while the ball was hidden beside a robot, 16 px of a Bayer fringe on the centre
+  // circle (0.08) 0.46 m away became the ball. Balls' own candidates are surer: 7 of 5 226 on 31 spent
+  // recordings below 0.2, stray ones 0.08-0.39.
   double ball_kick_min_confidence = 0.2;
   // A ball track begun outside the playing area is output once measured this many times: one
   // frame's orange fleck by the lines (a cable's tip at the carpet's edge) is not the ball,
