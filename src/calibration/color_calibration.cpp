@@ -50,6 +50,10 @@ SamplePatches samplePatches(const std::vector<cv::Point>& positions) {
 // bright, saturated and within kRimHueWindow of the clipped samples' hue (the true hue lies
 // between the two clipped channels' primaries, 60° either side).
 constexpr double kRimHueWindow = 30;  // [deg]
+
+// Whether more than half of a class's sample pixels are clipped twice: the warning's rule
+// (classesSampledClipped) and the rim's.
+bool mostClippedTwice(std::size_t clipped, std::size_t all) { return 2 * clipped > all; }
 constexpr double kRimMinSaturation = 0.5;
 constexpr int kRimMinValue = 128;
 
@@ -70,7 +74,7 @@ std::vector<std::pair<cv::Point, int>> unclippedRim(const cv::Mat& bgr,
     x += std::cos(h);
     y += std::sin(h);
   }
-  if (2 * clipped <= positions.size()) return rim;
+  if (!mostClippedTwice(clipped, positions.size())) return rim;
   const double hue = std::atan2(y, x) * 180 / M_PI;
   // Within the samples' box grown by the margin; patch numbers and the margin around them.
   const cv::Rect box = (cv::boundingRect(positions) + cv::Size(2 * kMarkerMargin, 2 * kMarkerMargin) -
@@ -90,7 +94,7 @@ std::vector<std::pair<cv::Point, int>> unclippedRim(const cv::Mat& bgr,
       const cv::Point at = box.tl() + cv::Point(u, v);
       if (!near(v, u) || sampled(at)) continue;
       const cv::Vec3b& c = bgr.at<cv::Vec3b>(at);
-      if (clippedOnce(c)) continue;
+      if (clippedAnyChannel(c)) continue;
       const Hsv h = bgrToHsv(c[0], c[1], c[2]);
       if (h.v < kRimMinValue || h.s < kRimMinSaturation) continue;
       if (std::abs(std::remainder(h.h - hue, 360.0)) > kRimHueWindow) continue;
@@ -192,15 +196,15 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         all.back().marker = markers + static_cast<std::uint32_t>(patches.of[k]);
         if (background_model && isMarkerColor(cls)) near_markers(p) = 255;
       }
-      if (isMarkerColor(cls)) {
+      const auto rim = isMarkerColor(cls) ? unclippedRim(image.bgr, positions, patches, sampled)
+                                          : std::vector<std::pair<cv::Point, int>>{};
+      if (!rim.empty()) {
         // Filed at the brightness of the clipped samples: a rim pixel is the print's colour
         // dimmed by the top it blends with, not by the light.
-        const std::size_t first = all.size() - positions.size();
         double v_sum = 0;
-        for (std::size_t k = first; k < all.size(); ++k) v_sum += all[k].v;
-        const auto v =
-            static_cast<std::uint8_t>(std::lround(v_sum / std::max<std::size_t>(positions.size(), 1)));
-        for (const auto& [p, patch] : unclippedRim(image.bgr, positions, patches, sampled)) {
+        for (std::size_t k = all.size() - positions.size(); k < all.size(); ++k) v_sum += all[k].v;
+        const auto v = static_cast<std::uint8_t>(std::lround(v_sum / static_cast<double>(positions.size())));
+        for (const auto& [p, patch] : rim) {
           all.push_back(filed(p.x, p.y));
           all.back().v = v;
           all.back().marker = markers + static_cast<std::uint32_t>(patch);
@@ -248,7 +252,7 @@ std::vector<ColorClass> classesSampledClipped(const std::vector<CalibrationImage
   }
   std::vector<ColorClass> out;
   for (const auto& [color, n] : counts) {
-    if (2 * n.first > n.second) out.push_back(color);
+    if (mostClippedTwice(n.first, n.second)) out.push_back(color);
   }
   return out;
 }

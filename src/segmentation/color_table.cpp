@@ -784,7 +784,7 @@ bool clippedTwice(const cv::Vec3b& p) {
   return (p[0] >= kClipLevel) + (p[1] >= kClipLevel) + (p[2] >= kClipLevel) >= 2;
 }
 
-bool clippedOnce(const cv::Vec3b& p) {
+bool clippedAnyChannel(const cv::Vec3b& p) {
   return p[0] >= kClipLevel || p[1] >= kClipLevel || p[2] >= kClipLevel;
 }
 

@@ -63,8 +63,8 @@ ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples)
 // sample tells nothing of the ratio between them, so nothing of its hue (a yellow under a
 // bright lamp reads (69, 255, 255), hue 60°, where its print reads 47°).
 bool clippedTwice(const cv::Vec3b& bgr);
-// Whether any channel is at that ceiling.
-bool clippedOnce(const cv::Vec3b& bgr);
+// Whether one channel or more is at that ceiling.
+bool clippedAnyChannel(const cv::Vec3b& bgr);
 
 struct ClassThresholds {
   double lab = 0;  // CIE76 distance to the class mean, strict upper bound

@@ -183,7 +183,9 @@ struct TrackerUpdateReport {
   int duplicate_detections = 0;  // same identity twice in one frame
   int misread_ids = 0;           // detections taken as the robot of the track they lie on
   int invalid_detections = 0;    // non-finite numbers
-  int unsure_starts = 0;  // detections of no track too unsure to begin one (min_start_confidence, ball_...)
+  // Detections of no track too unsure to begin one (min_start_confidence; ball candidates:
+  // ball_min_start_confidence).
+  int unsure_starts = 0;
   int balls_measured = 0;
   int ball_kicks = 0;  // ball filters restarted by a kick
   int balls_created = 0;
