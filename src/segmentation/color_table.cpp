@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -363,12 +364,14 @@ SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixe
 
 // Another print of a robot marker colour (ColorTableParams::other_prints): the samples of a
 // marker (SamplePixel::marker) of which fewer than half of those that show their hue are
-// valid, selected around their own centre as the class's are around its. At least
-// kMinHueSamples of them must show their hue and as many must be valid: a few pixels of a
-// marker's rim are no print. Per print, a mask over `pixels`.
+// valid, or that the table built without it confused with another colour (`confused`,
+// confusedMarkers), selected around their own centre as the class's are around its. At
+// least kMinHueSamples of them must show their hue and as many must be valid: a few pixels
+// of a marker's rim are no print. Per print, a mask over `pixels`.
 std::vector<std::vector<bool>> otherPrints(const std::vector<SamplePixel>& pixels,
                                            const std::vector<Lab>& lab, const std::vector<Hsv>& hsv,
-                                           const ClassThresholds& t, const std::vector<bool>& valid) {
+                                           const ClassThresholds& t, const std::vector<bool>& valid,
+                                           const std::set<std::uint32_t>& confused) {
   std::map<std::uint32_t, std::vector<std::size_t>> by_marker;
   for (std::size_t i = 0; i < pixels.size(); ++i) {
     if (pixels[i].marker != 0 && !clippedTwice(pixels[i].bgr)) by_marker[pixels[i].marker].push_back(i);
@@ -377,8 +380,8 @@ std::vector<std::vector<bool>> otherPrints(const std::vector<SamplePixel>& pixel
   for (const auto& [marker, members] : by_marker) {
     const auto valid_members =
         std::count_if(members.begin(), members.end(), [&](std::size_t i) { return valid[i]; });
-    if (members.size() < kMinHueSamples || 2 * static_cast<std::size_t>(valid_members) >= members.size())
-      continue;
+    const bool mostly_valid = 2 * static_cast<std::size_t>(valid_members) >= members.size();
+    if (members.size() < kMinHueSamples || (mostly_valid && confused.count(marker) == 0)) continue;
     std::vector<Lab> own_lab;
     std::vector<Hsv> own_hsv;
     for (const std::size_t i : members) {
@@ -922,11 +925,68 @@ std::uint16_t chromaticMarkerBits(const ColorTableStatistics& stats) {
   return bits;
 }
 
+// A tenth: on the spent held-out seeds 9061-9063 the markers confused so were yellow tags
+// read as the ball's orange, 12-67 % of their colours; no other marker of 8 pixels or
+// more reached 7 % (green dots a fifth darker read as carpet, which does not count).
+constexpr double kConfusedShare = 0.1;
+
+// The sampled markers of robot marker classes (SamplePixel::marker) with at least
+// kMinHueSamples pixels that show their hue, of whose colours (those pixels, and each
+// under the light of its brightness variants, ColorTableParams::brightness_spread) `table`
+// reads at least kConfusedShare as another robot marker colour or the ball's orange: the
+// same print a little darker or brighter would be another marker or a ball.
+std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamplePixels& samples) {
+  const std::vector<double> factors = spreadFactors(table.params().brightness_spread);
+  std::set<std::uint32_t> confused;
+  for (const auto& [color, pixels] : samples) {
+    if (!isRobotMarkerColor(color)) continue;
+    struct Count {
+      std::size_t pixels = 0, colours = 0, confused = 0;
+    };
+    std::map<std::uint32_t, Count> counts;
+    for (const SamplePixel& p : pixels) {
+      if (p.marker == 0 || clippedTwice(p.bgr)) continue;
+      const Hsv hsv = bgrToHsv(p.bgr[0], p.bgr[1], p.bgr[2]);
+      Count& n = counts[p.marker];
+      ++n.pixels;
+      auto read = [&](double v) {
+        const ColorClass c = table.classifyHsv(hsv.h, hsv.s, v);
+        ++n.colours;
+        n.confused += c != color && (isRobotMarkerColor(c) || c == ColorClass::Orange);
+      };
+      read(p.v);
+      for (const double f : factors) {
+        if (p.v * f <= 255) read(p.v * f);
+      }
+    }
+    for (const auto& [marker, n] : counts) {
+      if (n.pixels >= kMinHueSamples && n.confused >= kConfusedShare * n.colours) confused.insert(marker);
+    }
+  }
+  return confused;
+}
+
 }  // namespace
 
+// Built once; if the table confuses a sampled marker with another colour
+// (confusedMarkers), built again with that marker as another print of its colour
+// (ColorTableParams::other_prints). On held-out seed 9063 one yellow tag read hue 36-46°
+// where the frame's two others read 54°: most of its pixels were valid, so it was no print
+// of its own, and the class's Gaussian, centred between them, lost the cells around it to
+// the ball's orange: in the frames after, its robot had no team marker for 2 s, and parts
+// of the tag became a ball.
 ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params,
                                              const std::vector<SamplePixel>& background,
                                              double brightest_light) {
+  ColorTable table = buildWithPrints(samples, params, background, brightest_light, {});
+  if (!params.other_prints) return table;
+  const std::set<std::uint32_t> confused = confusedMarkers(table, samples);
+  return confused.empty() ? table : buildWithPrints(samples, params, background, brightest_light, confused);
+}
+
+ColorTable ColorTable::buildWithPrints(const ClassSamplePixels& samples, const ColorTableParams& params,
+                                       const std::vector<SamplePixel>& background, double brightest_light,
+                                       const std::set<std::uint32_t>& confused) {
   params.validate();
   ColorTable table;
   table.params_ = params;
@@ -1038,7 +1098,7 @@ ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, c
     // Other prints of the colour: their own cells and Gaussians, not the class's statistics.
     std::vector<std::vector<bool>> other_masks;
     if (params.other_prints && marker)
-      other_masks = otherPrints(pixels, lab, hsv, st.thresholds, centre.valid);
+      other_masks = otherPrints(pixels, lab, hsv, st.thresholds, centre.valid, confused);
     std::vector<PrintColours> others;
     std::vector<bool> valid_in_any = centre.valid;  // a pixel valid in two prints counts once
     for (const std::vector<bool>& mask : other_masks) {

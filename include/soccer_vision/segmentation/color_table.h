@@ -23,6 +23,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -173,8 +174,11 @@ struct ColorTableParams {
   // follows the other markers) is printed in another shade. Its own valid pixels
   // (the same selection, around their own centre) become a part of the class of their own:
   // cells and a Gaussian. On held-out seed 9039 one robot's yellow tag read hue 40° where the
-  // other read 68°; the one-frame table read it orange (docs/segmentation.md). false = off:
-  // such a marker's pixels are invalid, as the paper has it.
+  // other read 68°; the one-frame table read it orange (docs/segmentation.md). So is a
+  // marker whose pixels are mostly valid but which the table built without it confuses with
+  // another colour (buildFromSamplePixels): on held-out seed 9063 a 40° yellow tag between
+  // 54° ones and the ball's 33°. false = off: such a marker's pixels are invalid, as the
+  // paper has it, or the class's.
   bool other_prints = true;
   // A cell that the lines' class and a robot marker class both claim goes to the marker,
   // whatever their Gaussians say. Lines are thin: no robot is found or lost by a line's
@@ -320,6 +324,10 @@ class ColorTable {
 
  private:
   ColorTable() = default;
+  // buildFromSamplePixels with the sampled markers `confused` taken as other prints.
+  static ColorTable buildWithPrints(const ClassSamplePixels& samples, const ColorTableParams& params,
+                                    const std::vector<SamplePixel>& background, double brightest_light,
+                                    const std::set<std::uint32_t>& confused);
 
   ColorTableParams params_;
   ColorTableStatistics stats_;
