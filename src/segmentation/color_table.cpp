@@ -930,13 +930,36 @@ std::uint16_t chromaticMarkerBits(const ColorTableStatistics& stats) {
 // more reached 7 % (green dots a fifth darker read as carpet, which does not count).
 constexpr double kConfusedShare = 0.1;
 
+// The colours a sample pixel stands for in the checks of confusedMarkers: itself, and for
+// a robot marker class each of its brightness variants (ColorTableParams::brightness_spread),
+// as the table's cells (ColorTable::cellIndex).
+template <typename Visit>
+void forEachSampleCell(const ColorTable& table, ColorClass color, const SamplePixel& p,
+                       const std::vector<double>& factors, Visit visit) {
+  const Hsv hsv = bgrToHsv(p.bgr[0], p.bgr[1], p.bgr[2]);
+  const int h = table.hBin(hsv.h), s = table.sBin(hsv.s);
+  visit(table.cellIndex(h, s, table.vBin(p.v)));
+  if (!isRobotMarkerColor(color)) return;
+  for (const double f : factors) {
+    if (p.v * f <= 255) visit(table.cellIndex(h, s, table.vBin(p.v * f)));
+  }
+}
+
 // The sampled markers of robot marker classes (SamplePixel::marker) with at least
-// kMinHueSamples pixels that show their hue, of whose colours (those pixels, and each
-// under the light of its brightness variants, ColorTableParams::brightness_spread) `table`
-// reads at least kConfusedShare as another robot marker colour or the ball's orange: the
-// same print a little darker or brighter would be another marker or a ball.
+// kMinHueSamples pixels that show their hue, of whose colours (forEachSampleCell) `table`
+// reads at least kConfusedShare as another robot marker colour or the ball's orange in a
+// cell where none of that class's own samples' colours lies: the same print a little
+// darker or brighter would be another marker or a ball only because that class's Gaussian
+// reaches so far. Where its samples lie too (two classes sampled on the same colours) the
+// table cannot tell them apart, and another build would not either.
 std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamplePixels& samples) {
   const std::vector<double> factors = spreadFactors(table.params().brightness_spread);
+  std::vector<std::uint16_t> sampled(table.cells().size(), 0);  // bit c: class c's sample colours
+  for (const auto& [color, pixels] : samples) {
+    const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(color));
+    for (const SamplePixel& p : pixels)
+      forEachSampleCell(table, color, p, factors, [&](std::size_t i) { sampled[i] |= bit; });
+  }
   std::set<std::uint32_t> confused;
   for (const auto& [color, pixels] : samples) {
     if (!isRobotMarkerColor(color)) continue;
@@ -946,18 +969,14 @@ std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamp
     std::map<std::uint32_t, Count> counts;
     for (const SamplePixel& p : pixels) {
       if (p.marker == 0 || clippedTwice(p.bgr)) continue;
-      const Hsv hsv = bgrToHsv(p.bgr[0], p.bgr[1], p.bgr[2]);
       Count& n = counts[p.marker];
       ++n.pixels;
-      auto read = [&](double v) {
-        const ColorClass c = table.classifyHsv(hsv.h, hsv.s, v);
+      forEachSampleCell(table, color, p, factors, [&](std::size_t i) {
+        const ColorClass c = table.cells()[i];
         ++n.colours;
-        n.confused += c != color && (isRobotMarkerColor(c) || c == ColorClass::Orange);
-      };
-      read(p.v);
-      for (const double f : factors) {
-        if (p.v * f <= 255) read(p.v * f);
-      }
+        n.confused += c != color && (isRobotMarkerColor(c) || c == ColorClass::Orange) &&
+                      !(sampled[i] & (1u << static_cast<unsigned>(c)));
+      });
     }
     for (const auto& [marker, n] : counts) {
       if (n.pixels >= kMinHueSamples && n.confused >= kConfusedShare * n.colours) confused.insert(marker);
