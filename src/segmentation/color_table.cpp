@@ -952,7 +952,14 @@ void forEachSampleCell(const ColorTable& table, ColorClass color, const SamplePi
 // darker or brighter would be another marker or a ball only because that class's Gaussian
 // reaches so far. Where its samples lie too (two classes sampled on the same colours) the
 // table cannot tell them apart, and another build would not either.
-std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamplePixels& samples) {
+// What confusedMarkers found: the markers, and per robot marker class (index: ColorClass)
+// the classes its confused markers read as (bit c: class c).
+struct Confusions {
+  std::set<std::uint32_t> markers;
+  std::array<std::uint16_t, kNumColorClasses> read_as{};
+};
+
+Confusions confusedMarkers(const ColorTable& table, const ClassSamplePixels& samples) {
   const std::vector<double> factors = spreadFactors(table.params().brightness_spread);
   std::vector<std::uint16_t> sampled(table.cells().size(), 0);  // bit c: class c's sample colours
   for (const auto& [color, pixels] : samples) {
@@ -960,11 +967,12 @@ std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamp
     for (const SamplePixel& p : pixels)
       forEachSampleCell(table, color, p, factors, [&](std::size_t i) { sampled[i] |= bit; });
   }
-  std::set<std::uint32_t> confused;
+  Confusions confused;
   for (const auto& [color, pixels] : samples) {
     if (!isRobotMarkerColor(color)) continue;
     struct Count {
       std::size_t pixels = 0, colours = 0, confused = 0;
+      std::uint16_t read_as = 0;
     };
     std::map<std::uint32_t, Count> counts;
     for (const SamplePixel& p : pixels) {
@@ -973,13 +981,18 @@ std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamp
       ++n.pixels;
       forEachSampleCell(table, color, p, factors, [&](std::size_t i) {
         const ColorClass c = table.cells()[i];
+        const auto bit = static_cast<std::uint16_t>(1u << static_cast<unsigned>(c));
         ++n.colours;
-        n.confused += c != color && (isRobotMarkerColor(c) || c == ColorClass::Orange) &&
-                      !(sampled[i] & (1u << static_cast<unsigned>(c)));
+        if (c != color && (isRobotMarkerColor(c) || c == ColorClass::Orange) && !(sampled[i] & bit)) {
+          ++n.confused;
+          n.read_as |= bit;
+        }
       });
     }
     for (const auto& [marker, n] : counts) {
-      if (n.pixels >= kMinHueSamples && n.confused >= kConfusedShare * n.colours) confused.insert(marker);
+      if (n.pixels < kMinHueSamples || n.confused < kConfusedShare * n.colours) continue;
+      confused.markers.insert(marker);
+      confused.read_as[static_cast<std::size_t>(color)] |= n.read_as;
     }
   }
   return confused;
@@ -993,14 +1006,26 @@ std::set<std::uint32_t> confusedMarkers(const ColorTable& table, const ClassSamp
 // where the frame's two others read 54°: most of its pixels were valid, so it was no print
 // of its own, and the class's Gaussian, centred between them, lost the cells around it to
 // the ball's orange: in the frames after, its robot had no team marker for 2 s, and parts
-// of the tag became a ball.
+// of the tag became a ball. The second build settles only the confusions it was built
+// for: a cell goes from a colour a marker was read as to the marker's colour, every other
+// cell keeps the first build's class. A print's Gaussian of its own also took cells from
+// a third class: on the real 2008 frame salmon pink tags read as the ball's orange, and
+// their prints took white cells from the quadrants sampled as purple (a robot lost).
 ColorTable ColorTable::buildFromSamplePixels(const ClassSamplePixels& samples, const ColorTableParams& params,
                                              const std::vector<SamplePixel>& background,
                                              double brightest_light) {
-  ColorTable table = buildWithPrints(samples, params, background, brightest_light, {});
-  if (!params.other_prints) return table;
-  const std::set<std::uint32_t> confused = confusedMarkers(table, samples);
-  return confused.empty() ? table : buildWithPrints(samples, params, background, brightest_light, confused);
+  const ColorTable first = buildWithPrints(samples, params, background, brightest_light, {});
+  if (!params.other_prints) return first;
+  const Confusions confused = confusedMarkers(first, samples);
+  if (confused.markers.empty()) return first;
+  const ColorTable second = buildWithPrints(samples, params, background, brightest_light, confused.markers);
+  std::vector<std::pair<std::size_t, ColorClass>> kept;  // the first build's class, where it stays
+  for (std::size_t i = 0; i < first.cells_.size(); ++i) {
+    const ColorClass was = first.cells_[i], is = second.cells_[i];
+    if (was != is && !(confused.read_as[static_cast<std::size_t>(is)] & (1u << static_cast<unsigned>(was))))
+      kept.emplace_back(i, was);
+  }
+  return second.withCells(kept);
 }
 
 ColorTable ColorTable::buildWithPrints(const ClassSamplePixels& samples, const ColorTableParams& params,

@@ -361,6 +361,50 @@ TEST(OneFrameTable, AColourSampledOnlyClippedIsSeenUnderDimmerLamps) {
   EXPECT_LE(opened.falsePositives(), 1e-4);
 }
 
+// Every sixth of the first 240 frames of preset `name` at `seed`, before and after the
+// calibration frame, as `evaluate` sees the recording: the true labels (renderLabels) and the
+// classification by the table calibrated from frame `calibration_frame` as make_scenario
+// samples it (2 px inside each object). BGR presets only.
+template <typename Visit>
+void classifyHeldOutRecording(const std::string& name, int seed, int calibration_frame, Visit visit) {
+  ScenarioConfig scenario = preset(name);
+  scenario.seed = seed;
+  const FieldGeometry field;
+  const PatternSet patterns = patternSetByName(scenario.pattern);
+  const CameraModel camera = scenarioCamera(field, 0, scenario);
+  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  const FieldRenderer renderer(camera, field, patterns, scenario);
+  std::vector<SceneState> states{sim.state()};
+  for (int i = 1; i < 240; ++i) {
+    sim.step(1.0 / scenario.fps);
+    states.push_back(sim.state());
+  }
+  const auto shown = [&](int i) { return extrapolate(states[i], shownTimeAfterStamp(scenario.sensor)); };
+  RenderedFrame frame;
+  renderer.render(states[calibration_frame], calibration_frame, frame);
+  const ColorSamples samples =
+      calibrationSamples(shown(calibration_frame), camera, field, patterns, SampleOptions::drawnByUser(2));
+  const auto model = SegmentationModel::fromTable(
+      std::make_shared<const ColorTable>(calibrateColorTable({{frame.image, samples}})));
+  for (int i = 0; i < 240; i += 6) {
+    renderer.render(states[i], i, frame);
+    visit(renderer.renderLabels(shown(i)),
+          classifyAll(*model, frame.image, PixelLayout::Bgr, SegmentationParams{}));
+  }
+}
+
+// Pixels of colour `truth_class` (renderLabels) read as `read`.
+std::int64_t countReadAs(const cv::Mat1b& truth, const cv::Mat1b& labels, ColorClass truth_class,
+                         ColorClass read) {
+  std::int64_t n = 0;
+  for (int y = 0; y < truth.rows; ++y) {
+    for (int x = 0; x < truth.cols; ++x)
+      n += truth(y, x) == static_cast<std::uint8_t>(truth_class) &&
+           labels(y, x) == static_cast<std::uint8_t>(read);
+  }
+  return n;
+}
+
 // Held-out seed 9063 of rand_fast (spent): of the calibration frame's (76) three yellow
 // tags one, yellow 3's, is another print, hue 36-46° where the others read 54°. Most of
 // its pixels were valid, so it was no print of its own, and the class's Gaussian, centred
@@ -368,43 +412,13 @@ TEST(OneFrameTable, AColourSampledOnlyClippedIsSeenUnderDimmerLamps) {
 // another lamp its tag read orange, its robot was lost for 2 s (measured 97.1 %) and parts
 // of the tag became balls. The table confused it with the ball when first built, so it is
 // built again with that tag as a print of its own (ColorTable::buildFromSamplePixels).
-// Every sixth of the 240 frames of the recording, before and after the calibration frame.
 TEST(OneFrameTable, ATagPrintedCloseToTheBallsOrangeKeepsItsColour) {
-  ScenarioConfig scenario = preset("rand_fast");
-  scenario.seed = 9063;
-  const FieldGeometry field;
-  const PatternSet patterns = patternSetByName(scenario.pattern);
-  const CameraModel camera = scenarioCamera(field, 0, scenario);
-  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
-  const FieldRenderer renderer(camera, field, patterns, scenario);
-  const int calibration_frame = 76;
-  std::vector<SceneState> states{sim.state()};
-  for (int i = 1; i < 240; ++i) {
-    sim.step(1.0 / scenario.fps);
-    states.push_back(sim.state());
-  }
-  RenderedFrame frame;
-  renderer.render(states[calibration_frame], calibration_frame, frame);
-  const ColorSamples samples =
-      calibrationSamples(extrapolate(states[calibration_frame], shownTimeAfterStamp(scenario.sensor)), camera,
-                         field, patterns, SampleOptions::drawnByUser(2));
-  const auto model = SegmentationModel::fromTable(
-      std::make_shared<const ColorTable>(calibrateColorTable({{frame.image, samples}})));
   Accuracy yellow;
   std::int64_t yellow_as_orange = 0;
-  for (int i = 0; i < 240; i += 6) {
-    renderer.render(states[i], i, frame);
-    const cv::Mat1b truth =
-        renderer.renderLabels(extrapolate(states[i], shownTimeAfterStamp(scenario.sensor)));
-    const cv::Mat1b labels = classifyAll(*model, frame.image, PixelLayout::Bgr, SegmentationParams{});
+  classifyHeldOutRecording("rand_fast", 9063, 76, [&](const cv::Mat1b& truth, const cv::Mat1b& labels) {
     countMarkerInteriors(truth, labels, yellow, {ColorClass::Yellow});
-    for (int y = 0; y < truth.rows; ++y) {
-      for (int x = 0; x < truth.cols; ++x) {
-        yellow_as_orange += truth(y, x) == static_cast<std::uint8_t>(ColorClass::Yellow) &&
-                            labels(y, x) == static_cast<std::uint8_t>(ColorClass::Orange);
-      }
-    }
-  }
+    yellow_as_orange += countReadAs(truth, labels, ColorClass::Yellow, ColorClass::Orange);
+  });
   std::printf("[ rand_fast 9063 ] yellow interiors %.3f %% of %ld; yellow pixels read orange %ld\n",
               100 * yellow.markers(), static_cast<long>(yellow.interior),
               static_cast<long>(yellow_as_orange));
