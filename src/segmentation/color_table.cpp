@@ -927,7 +927,8 @@ std::uint16_t chromaticMarkerBits(const ColorTableStatistics& stats) {
 
 // A tenth: on the spent held-out seeds 9061-9063 the markers confused so were yellow tags
 // read as the ball's orange, 12-67 % of their colours; no other marker of 8 pixels or
-// more reached 7 % (green dots a fifth darker read as carpet, which does not count).
+// more reached 7 % (green dots a fifth darker read as carpet, which does not count;
+// counted before the condition on the other class's own samples, which only lowers it).
 constexpr double kConfusedShare = 0.1;
 
 // The colours a sample pixel stands for in the checks of confusedMarkers: itself, and for
@@ -945,13 +946,6 @@ void forEachSampleCell(const ColorTable& table, ColorClass color, const SamplePi
   }
 }
 
-// The sampled markers of robot marker classes (SamplePixel::marker) with at least
-// kMinHueSamples pixels that show their hue, of whose colours (forEachSampleCell) `table`
-// reads at least kConfusedShare as another robot marker colour or the ball's orange in a
-// cell where none of that class's own samples' colours lies: the same print a little
-// darker or brighter would be another marker or a ball only because that class's Gaussian
-// reaches so far. Where its samples lie too (two classes sampled on the same colours) the
-// table cannot tell them apart, and another build would not either.
 // What confusedMarkers found: the markers, and per robot marker class (index: ColorClass)
 // the classes its confused markers read as (bit c: class c).
 struct Confusions {
@@ -959,6 +953,13 @@ struct Confusions {
   std::array<std::uint16_t, kNumColorClasses> read_as{};
 };
 
+// The sampled markers of robot marker classes (SamplePixel::marker) with at least
+// kMinHueSamples pixels that show their hue, of whose colours (forEachSampleCell) `table`
+// reads at least kConfusedShare as another robot marker colour or the ball's orange in a
+// cell where none of that class's own samples' colours lies: the same print a little
+// darker or brighter would be another marker or a ball only because that class's Gaussian
+// reaches so far. Where its samples lie too (two classes sampled on the same colours) the
+// table cannot tell them apart, and another build would not either.
 Confusions confusedMarkers(const ColorTable& table, const ClassSamplePixels& samples) {
   const std::vector<double> factors = spreadFactors(table.params().brightness_spread);
   std::vector<std::uint16_t> sampled(table.cells().size(), 0);  // bit c: class c's sample colours
