@@ -50,12 +50,12 @@ SamplePatches samplePatches(const std::vector<cv::Point>& positions) {
 // bright, saturated and within kRimHueWindow of the clipped samples' hue (the true hue lies
 // between the two clipped channels' primaries, 60° either side).
 constexpr double kRimHueWindow = 30;  // [deg]
+constexpr double kRimMinSaturation = 0.5;
+constexpr int kRimMinValue = 128;
 
 // Whether more than half of a class's sample pixels are clipped twice: the warning's rule
 // (classesSampledClipped) and the rim's.
 bool mostClippedTwice(std::size_t clipped, std::size_t all) { return 2 * clipped > all; }
-constexpr double kRimMinSaturation = 0.5;
-constexpr int kRimMinValue = 128;
 
 // Positions of rim pixels of `positions` (one class's samples in one image) as above, each
 // with the patch it lies next to; none unless most of the positions are clipped twice.
@@ -199,8 +199,9 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
       const auto rim = isMarkerColor(cls) ? unclippedRim(image.bgr, positions, patches, sampled)
                                           : std::vector<std::pair<cv::Point, int>>{};
       if (!rim.empty()) {
-        // Filed at the brightness of the clipped samples: a rim pixel is the print's colour
-        // dimmed by the top it blends with, not by the light.
+        // Filed at the mean brightness of the class's samples in this image (most of them
+        // clipped twice): a rim pixel is the print's colour dimmed by the top it blends
+        // with, not by the light.
         double v_sum = 0;
         for (std::size_t k = all.size() - positions.size(); k < all.size(); ++k) v_sum += all[k].v;
         const auto v = static_cast<std::uint8_t>(std::lround(v_sum / static_cast<double>(positions.size())));

@@ -150,7 +150,7 @@ std::vector<Eigen::Vector3d> FieldGeometry::landmarks() const {
 }
 
 bool FieldGeometry::onCarpet(double x, double y, double margin) const {
-  return std::abs(x) <= halfLength() + boundary + margin && std::abs(y) <= halfWidth() + boundary + margin;
+  return std::abs(x) <= carpetHalfLength() + margin && std::abs(y) <= carpetHalfWidth() + margin;
 }
 
 bool FieldGeometry::inPlayingArea(double x, double y, double margin) const {

@@ -52,8 +52,8 @@ double distanceOutsideLines(const FieldGeometry& field, double x, double y) {
 std::vector<Distractor> distractorLayout(int count, const FieldGeometry& field, std::uint64_t seed) {
   std::vector<Distractor> out;
   cv::RNG rng(seed * 0x9E3779B97F4A7C15ULL + 0x5851F42D4C957F2DULL);
-  const double hx = field.halfLength() + field.boundary + kReach;
-  const double hy = field.halfWidth() + field.boundary + kReach;
+  const double hx = field.carpetHalfLength() + kReach;
+  const double hy = field.carpetHalfWidth() + kReach;
   const auto fits = [&](const Distractor& d) {
     return distanceOutsideLines(field, d.x, d.y) >= d.boundingRadius() + kClearance && std::abs(d.x) <= hx &&
            std::abs(d.y) <= hy;

@@ -189,8 +189,8 @@ struct FieldRenderer::Impl {
   void buildBackground() {
     const std::vector<LineSegment> lines = field.lines();
     const std::vector<CircleArc> circles = field.circles();
-    const float carpet_hx = static_cast<float>(field.halfLength() + field.boundary);
-    const float carpet_hy = static_cast<float>(field.halfWidth() + field.boundary);
+    const float carpet_hx = static_cast<float>(field.carpetHalfLength());
+    const float carpet_hy = static_cast<float>(field.carpetHalfWidth());
     const double half_line = field.line_width / 2;
     const cv::Vec3f floor = classAlbedo(ColorClass::None);
     const cv::Vec3f carpet = classAlbedo(ColorClass::Carpet);

@@ -70,8 +70,8 @@ GameSimulator::GameSimulator(const ScenarioConfig& scenario, const FieldGeometry
   for (std::size_t i = 0; i < n; ++i) pickTarget(i);
 
   // Balls start at rest, on the carpet part of the area, clear of every robot.
-  const double cx = field_.halfLength() + field_.boundary - kBallRadius;
-  const double cy = field_.halfWidth() + field_.boundary - kBallRadius;
+  const double cx = field_.carpetHalfLength() - kBallRadius;
+  const double cy = field_.carpetHalfWidth() - kBallRadius;
   const double x0 = std::max(m.area_x_min, -cx), x1 = std::min(m.area_x_max, cx);
   const double y0 = std::max(m.area_y_min, -cy), y1 = std::min(m.area_y_max, cy);
   for (int k = 0; k < scenario_.balls; ++k) {
@@ -231,8 +231,8 @@ void GameSimulator::moveBalls(double dt) {
     next_kick_ += m.kick_interval * uniform(0.5, 1.5);
   }
 
-  const double x_lim = field_.halfLength() + field_.boundary - kBallRadius;
-  const double y_lim = field_.halfWidth() + field_.boundary - kBallRadius;
+  const double x_lim = field_.carpetHalfLength() - kBallRadius;
+  const double y_lim = field_.carpetHalfWidth() - kBallRadius;
   const double contact = robot_radius_ + kBallRadius;
   for (BallState& ball : state_.balls) {
     Eigen::Vector2d p(ball.x, ball.y), v(ball.vx, ball.vy);

@@ -20,8 +20,8 @@ cv::RNG streamFor(std::uint64_t seed, std::uint64_t purpose) {
 IlluminationModel::IlluminationModel(const LightingConfig& config, const FieldGeometry& field,
                                      std::uint64_t seed)
     : config_(config), seed_(seed) {
-  const double hx = field.halfLength() + field.boundary;
-  const double hy = field.halfWidth() + field.boundary;
+  const double hx = field.carpetHalfLength();
+  const double hy = field.carpetHalfWidth();
 
   cv::RNG rng = streamFor(seed, 1);
   const double gradient_angle = rng.uniform(-M_PI, M_PI);

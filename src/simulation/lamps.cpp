@@ -13,7 +13,7 @@ constexpr double kGridStep = 0.1;  // m: carpet sampling for the normalisation
 LampSet::LampSet(const AppearanceConfig& config, const FieldGeometry& field, std::uint64_t seed)
     : drift_(config.lamp_drift) {
   if (config.lamps <= 0) return;
-  const double hx = field.halfLength() + field.boundary, hy = field.halfWidth() + field.boundary;
+  const double hx = field.carpetHalfLength(), hy = field.carpetHalfWidth();
   cv::RNG rng(seed * 0x9E3779B97F4A7C15ULL + 0xA24BAED4963EE407ULL);
   for (int k = 0; k < config.lamps; ++k) {
     Lamp l;

@@ -441,8 +441,8 @@ bool Tracker::confirmed(const BallTrack& t) const {
 BallFilterParams Tracker::ballFilterParams(double z) const {
   BallFilterParams b = p_.ball;
   if (p_.field) {
-    b.wall_x = std::max(0.0, p_.field->halfLength() + p_.field->boundary - z);
-    b.wall_y = std::max(0.0, p_.field->halfWidth() + p_.field->boundary - z);
+    b.wall_x = std::max(0.0, p_.field->carpetHalfLength() - z);
+    b.wall_y = std::max(0.0, p_.field->carpetHalfWidth() - z);
   }
   return b;
 }

@@ -361,6 +361,8 @@ TEST(OneFrameTable, AColourSampledOnlyClippedIsSeenUnderDimmerLamps) {
   EXPECT_LE(opened.falsePositives(), 1e-4);
 }
 
+namespace {
+
 // Every sixth of the first 240 frames of preset `name` at `seed`, before and after the
 // calibration frame, as `evaluate` sees the recording: the true labels (renderLabels) and the
 // classification by the table calibrated from frame `calibration_frame` as make_scenario
@@ -404,6 +406,8 @@ std::int64_t countReadAs(const cv::Mat1b& truth, const cv::Mat1b& labels, ColorC
   }
   return n;
 }
+
+}  // namespace
 
 // Held-out seed 9063 of rand_fast (spent): of the calibration frame's (76) three yellow
 // tags one, yellow 3's, is another print, hue 36-46° where the others read 54°. Most of

@@ -55,6 +55,9 @@ struct FieldGeometry {
 
   double halfLength() const { return length / 2; }
   double halfWidth() const { return width / 2; }
+  // Half extents of the carpet (playing area plus boundary): where its walls stand.
+  double carpetHalfLength() const { return halfLength() + boundary; }
+  double carpetHalfWidth() const { return halfWidth() + boundary; }
 
   // All straight white lines.
   std::vector<LineSegment> lines() const;

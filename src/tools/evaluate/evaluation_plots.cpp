@@ -109,7 +109,7 @@ std::string lower(std::string s) {
 }
 
 void drawField(PlotCanvas& c, const FieldGeometry& f) {
-  const double cx = f.halfLength() + f.boundary, cy = f.halfWidth() + f.boundary;
+  const double cx = f.carpetHalfLength(), cy = f.carpetHalfWidth();
   c.addFilledPolygon({-cx, cx, cx, -cx}, {-cy, -cy, cy, cy}, kCarpet);
   for (const LineSegment& l : f.lines())
     c.addPolyline({l.a.x(), l.b.x()}, {l.a.y(), l.b.y()}, kWhite, "", LineStyle::Solid, 2);
@@ -189,8 +189,8 @@ cv::Mat renderTrajectories(const std::vector<TrajectorySeries>& series, const Fi
   if (!series.empty()) title += ")";
   c.setTitle(title);
   // Axes fixed to the carpet: one wild position must not shrink the field to a dot.
-  const double margin = 0.2, x_end = field.halfLength() + field.boundary + margin,
-               y_end = field.halfWidth() + field.boundary + margin;
+  const double margin = 0.2, x_end = field.carpetHalfLength() + margin,
+               y_end = field.carpetHalfWidth() + margin;
   c.setXRange(-x_end, x_end);
   c.setYRange(-y_end, y_end);
   size_t off_field = 0;
