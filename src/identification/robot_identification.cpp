@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <queue>
 #include <set>
@@ -20,6 +21,14 @@ namespace {
 // [px] how far a slot's marker outline may reach beyond the image before the marker counts
 // as cut (dropCutSlots): a fitted pose is off by a pixel or two, most under motion blur.
 constexpr double kCutTolerancePx = 2.0;
+// A slot's region at the image's edge is a part the edge cut (dropCutSlots) when it reaches
+// across the edge less than kCutExtentShare of its marker's projected diameter and holds
+// less than kCutAreaShare of its projected area. Both: a dot wholly in view that touches
+// the edge may read smaller than its footprint, its rim unclassified (spent held-out
+// recordings: 4-5 px of 5.4-6.9 px across, 0.70-0.82 of its area); the cut dot of 9066
+// read 4 of 6.5 px across and 0.37 of its area.
+constexpr double kCutExtentShare = 0.75;
+constexpr double kCutAreaShare = 0.5;
 
 constexpr double kDeg = M_PI / 180.0;
 // Id markers from which a complete pattern vouches for its team marker (evaluate()).
@@ -37,7 +46,20 @@ struct Observed {
   // T reads at[T] (idCentre). The two are equal when the teams' heights are.
   std::array<Eigen::Vector2d, 2> at;
   double area_px = 0;
+  // [px] Across the image's edge(s) the region reaches (its bbox's height at the top or
+  // bottom row, width at the first or last column; the smaller at a corner); infinite when
+  // it reaches none.
+  double extent_at_edge = std::numeric_limits<double>::infinity();
 };
+
+// Observed::extent_at_edge of a region.
+double extentAtImageEdge(const Region& r, const CameraModel& camera) {
+  double extent = std::numeric_limits<double>::infinity();
+  if (r.bbox.y <= 0 || r.bbox.y + r.bbox.height >= camera.height()) extent = r.bbox.height;
+  if (r.bbox.x <= 0 || r.bbox.x + r.bbox.width >= camera.width())
+    extent = std::min(extent, static_cast<double>(r.bbox.width));
+  return extent;
+}
 
 struct Hypothesis {
   int team = -1;              // index into observed
@@ -131,6 +153,7 @@ class Matcher {
       // which); an id marker needs just its centroid, on the plane of each team it may
       // belong to.
       Observed o{static_cast<int>(r), c, {}, {}, static_cast<double>(regions[r].area)};
+      o.extent_at_edge = extentAtImageEdge(regions[r], camera);
       if (team) {
         const auto full = projectToPlane(regions[r], camera, heightOf(height_, teamOfColor(c)));
         if (!full) {
@@ -447,15 +470,30 @@ class Matcher {
     return std::nullopt;
   }
 
-  // Unassigns the slots whose marker the pose puts beyond the image (by more than
-  // kCutTolerancePx): the image's edge cuts it, and its region shows a part, its centre off
-  // and a colour fringe at the cut (held-out seed 9050: a robot entering the view took another robot's id
-  // from a cut dot's rim). A robot wholly in view, by the truth's own rule (markerOutlinePoints), keeps every
-  // slot. True when one was unassigned.
+  // Unassigns the slots whose marker the image's edge cuts: its region shows a part, its
+  // centre off and a colour fringe at the cut (held-out seed 9050: a robot entering the view
+  // took another robot's id from a cut dot's rim). Cut is a marker the pose puts beyond the
+  // image (by more than kCutTolerancePx), or whose region at the image's edge is a part of
+  // it (kCutExtentShare, kCutAreaShare): the pose misses a cut when the edge cuts the team
+  // tag too, as both centres lie inward and so does the fit (9066: a pink dot and a yellow
+  // tag cut alike, the dot's last rows read purple, another id). A robot wholly in view, by
+  // the truth's own rule (markerOutlinePoints), keeps every slot. True when one was
+  // unassigned.
   bool dropCutSlots(Hypothesis& h) const {
     bool dropped = false;
     for (std::size_t s = 0; s < h.slot_obs.size(); ++s) {
       if (h.slot_obs[s] < 0) continue;
+      const double extent = observed_[h.slot_obs[s]].extent_at_edge;
+      if (std::isfinite(extent)) {
+        const double area = expectedMarkerArea(camera_, pattern_.slots[s], h.pose.x, h.pose.y, h.pose.theta,
+                                               height(teamOf(h)));
+        if (area > 0 && extent < kCutExtentShare * 2 * std::sqrt(area / M_PI) &&
+            observed_[h.slot_obs[s]].area_px < kCutAreaShare * area) {
+          h.slot_obs[s] = -1;
+          dropped = true;
+          continue;
+        }
+      }
       outline_.clear();
       appendShapeOutline(pattern_.slots[s], h.pose.x, h.pose.y, h.pose.theta, height(teamOf(h)), outline_);
       for (const Eigen::Vector3d& p : outline_) {

@@ -55,13 +55,17 @@ inline Region rasterise(ColorClass color, const Eigen::Vector2d& centre, int rea
   return r;
 }
 
-// Region of one marker (shape in the robot frame) of a robot at (x, y, theta), plane z.
+// Region of one marker (shape in the robot frame) of a robot at (x, y, theta), plane z;
+// with `in_image_only` only its part inside the image (the edge cuts it).
 inline Region markerRegion(const CameraModel& camera, const MarkerShape& s, ColorClass color, double x,
-                           double y, double theta, double z) {
+                           double y, double theta, double z, bool in_image_only = false) {
   const double c = std::cos(theta), sn = std::sin(theta);
   const Eigen::Vector3d centre(x + c * s.x - sn * s.y, y + sn * s.x + c * s.y, z);
   const auto px = camera.project(centre);
   return rasterise(color, *px, 14, [&](const Eigen::Vector2d& p) {
+    if (in_image_only &&
+        (p.x() < -0.5 || p.y() < -0.5 || p.x() >= camera.width() - 0.5 || p.y() >= camera.height() - 0.5))
+      return false;
     const auto f = camera.pixelToField(p, z);
     if (!f) return false;
     const double dx = f->x() - x, dy = f->y() - y;

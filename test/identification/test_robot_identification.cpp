@@ -21,6 +21,7 @@ using namespace soccer_vision;
 using soccer_vision::test::ballRegion;
 using soccer_vision::test::discBlob;
 using soccer_vision::test::markerRegion;
+using soccer_vision::test::rasterise;
 
 namespace {
 
@@ -343,6 +344,61 @@ TEST(RobotIdentification, ARoleDiscCutByTheImageEdgeGivesNoId) {
   EXPECT_TRUE(entering.empty());
   const auto inside = regionsAt(edge - (slot + 0.15) * out, false);
   ASSERT_TRUE(find(inside, Team::Blue, 1));
+}
+
+// Held-out seed 9066 (spent) of rand_bayer: a robot entering the view at the image's lower
+// edge, nearly along it, so that the edge cuts its team tag and its role disc alike; only
+// the last rows of the pink disc were read, and read purple (another id): 12 px of the
+// disc's 33, 4 of its 6.5 px across. Both centres lie inward of their markers' and so does
+// the fitted pose: the disc's outline, placed by it, stays in the image. A region at the
+// image's edge with less than half its marker's area and less than three quarters of its
+// diameter across the edge is cut, and no id is read from it. The same robot wholly in
+// view is blue 0.
+TEST(RobotIdentification, ARoleDiscCutAlongWithItsTeamTagGivesNoId) {
+  const PatternSet p = PatternSet::twoTag();
+  const double z = p.height(Team::Blue);
+  const double v_edge = kCamera.height() - 0.5;
+  const auto a = kCamera.pixelToField(Eigen::Vector2d(600, v_edge), z);
+  const auto b = kCamera.pixelToField(Eigen::Vector2d(680, v_edge), z);
+  const auto inner = kCamera.pixelToField(Eigen::Vector2d(640, v_edge - 40), z);
+  ASSERT_TRUE(a && b && inner);
+  const Eigen::Vector2d along = (b->head<2>() - a->head<2>()).normalized();  // along the edge
+  const Eigen::Vector2d mid = (a->head<2>() + b->head<2>()) / 2;
+  const Eigen::Vector2d in = (inner->head<2>() - mid).normalized();  // into the image
+  const double heading = std::atan2(along.y(), along.x()) + 20 * kDeg;
+  const auto markers = p.markers(Team::Blue, 0);
+  ASSERT_EQ(markers[1].color, ColorClass::Pink);
+  const MarkerShape& disc = markers[1].shape;
+
+  // The robot's centre 4 mm inside the edge; the disc's part in the image's last 3 rows.
+  const Eigen::Vector2d entering = mid + 0.004 * in;
+  const double c = std::cos(heading), sn = std::sin(heading);
+  const auto disc_px = kCamera.project({entering.x() + c * disc.x, entering.y() + sn * disc.x, z});
+  ASSERT_TRUE(disc_px);
+  const Region fringe = rasterise(ColorClass::Purple, *disc_px, 14, [&](const Eigen::Vector2d& q) {
+    if (q.y() >= v_edge || q.y() < v_edge - 3) return false;
+    const auto f = kCamera.pixelToField(q, z);
+    if (!f) return false;
+    const double dx = f->x() - entering.x(), dy = f->y() - entering.y();
+    const double lx = c * dx + sn * dy - disc.x, ly = -sn * dx + c * dy - disc.y;
+    return lx * lx + ly * ly <= disc.radius * disc.radius;
+  });
+  const Region full = markerRegion(kCamera, disc, ColorClass::Pink, entering.x(), entering.y(), heading, z);
+  ASSERT_GT(fringe.area, 0u);
+  ASSERT_LT(fringe.area, 0.5 * full.area);
+  ASSERT_LT(fringe.bbox.height, 0.75 * full.bbox.height);
+  const std::vector<Region> cut = {
+      markerRegion(kCamera, markers[0].shape, markers[0].color, entering.x(), entering.y(), heading, z, true),
+      fringe};
+  const auto seen = RobotIdentifier(kCamera, p).identify(cut).robots;
+  EXPECT_FALSE(find(seen, Team::Blue, 1)) << "its id read from what the edge left of its disc";
+  EXPECT_TRUE(seen.empty());
+
+  const Eigen::Vector2d inside = mid + 0.1 * in;
+  const std::vector<Region> whole = {
+      markerRegion(kCamera, markers[0].shape, markers[0].color, inside.x(), inside.y(), heading, z, true),
+      markerRegion(kCamera, disc, ColorClass::Pink, inside.x(), inside.y(), heading, z, true)};
+  ASSERT_TRUE(find(RobotIdentifier(kCamera, p).identify(whole).robots, Team::Blue, 0));
 }
 
 // Held-out seed 9051 (spent) of rand_flicker_jpeg: yellow 3 at 2 m/s, its green disc
