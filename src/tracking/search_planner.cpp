@@ -108,7 +108,12 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   }
   if (params_.lost_ball_sweep_streaks && plan.ball_streak_rects.empty() && !plan.sweep_stripe.empty() &&
       tracker.params().field) {
-    const cv::Rect in_play = plan.sweep_stripe & playingAreaImageRect(*camera, *tracker.params().field);
+    // The stripe and the entry bands: a fast ball comes into view through a band.
+    const cv::Rect play = playingAreaImageRect(*camera, *tracker.params().field);
+    for (const cv::Rect& band : entryBands(image, params_.entry_band_px)) {
+      if (!(band & play).empty()) plan.lost_ball_streak_rects.push_back(band & play);
+    }
+    const cv::Rect in_play = plan.sweep_stripe & play;
     if (!in_play.empty()) plan.lost_ball_streak_rects.push_back(in_play);
   }
   return plan;

@@ -38,11 +38,12 @@ struct SearchPlannerParams {
   // during one frame's exposure may be missed there (its streak bent by the kick) and still
   // followed; not one searched for long after it was lost. docs/segmentation.md.
   double ball_streak_intervals = 3.5;
-  // While no ball was seen within ball_streak_intervals (lost, or not yet found), the
-  // sweep's stripe within the image of the playing area (the tracker's field) is a streak
-  // window too (SearchPlan::lost_ball_streak_rects; not on Bayer quads): a ball kicked back into view faster
-  // than the colour table's orange reaches is found again there within a sweep, not only once it slows down.
-  // Not beyond the lines, where the carpet's edge and what stands outside read as ball mixed with carpet.
+  // While no ball was seen within ball_streak_intervals (lost, or not yet found), the entry
+  // bands and the sweep's stripe within the image of the playing area (the tracker's field)
+  // are streak windows too (SearchPlan::lost_ball_streak_rects; not on Bayer quads): a ball
+  // coming into view faster than the colour table's orange reaches is found as it comes
+  // through a band, or within a sweep, not only once it slows down. Not beyond the lines,
+  // where the carpet's edge and what stands outside read as ball mixed with carpet.
   bool lost_ball_sweep_streaks = true;
 };
 
@@ -63,9 +64,10 @@ struct SearchPlan {
   // lost (out of view, hidden): its window would be filled with whatever reads as ball and
   // carpet, such as Bayer fringes at the carpet's edge.
   std::vector<cv::Rect> ball_streak_rects;
-  // SearchPlannerParams::lost_ball_sweep_streaks: the sweep's stripe within the playing
-  // area's image while no ball was seen; the segmentation searches it with the streak table
-  // where that suits the image's layout (searchesLostBallStreaks in segmenter.h).
+  // SearchPlannerParams::lost_ball_sweep_streaks: the entry bands and the sweep's stripe
+  // within the playing area's image while no ball was seen; the segmentation searches them
+  // with the streak table where that suits the image's layout (searchesLostBallStreaks in
+  // segmenter.h).
   std::vector<cv::Rect> lost_ball_streak_rects;
 };
 
