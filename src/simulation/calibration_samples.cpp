@@ -7,6 +7,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "soccer_vision/common/ball.h"
+
 namespace soccer_vision {
 namespace {
 
@@ -176,12 +178,12 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
 
   for (const auto& b : scene.balls) {
     // A disc on the plane through the ball centre: its outline projects inside the ball.
-    double radius = options.shrink * 0.0215;
+    double radius = options.shrink * kBallRadius;
     if (options.inset_px > 0) {
       const double mpp = metresPerPixel(camera, Eigen::Vector3d(b.x, b.y, b.z));
-      radius = 0.0215 - options.inset_px * mpp;
-      if (mpp <= 0 || 0.0215 < mpp) continue;      // under 2 px across
-      if (radius < 0.5 * mpp) radius = 0.6 * mpp;  // a click on its centre pixel, as for a dot
+      radius = kBallRadius - options.inset_px * mpp;
+      if (mpp <= 0 || kBallRadius < mpp) continue;  // under 2 px across
+      if (radius < 0.5 * mpp) radius = 0.6 * mpp;   // a click on its centre pixel, as for a dot
     }
     std::vector<Eigen::Vector3d> pts;
     for (int i = 0; i < kPolygonVertices; ++i) {

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/simulation/ball_light.h"
 #include "soccer_vision/simulation/camera_response.h"
 #include "soccer_vision/simulation/carpet_texture.h"
@@ -18,7 +19,6 @@ namespace soccer_vision {
 
 namespace {
 
-constexpr double kBallRadius = 0.0215;  // m
 constexpr double kBallShininess = 20;   // Blinn-Phong exponent of its highlights (a lobe ~15 deg wide)
 constexpr int kNoiseMargin = 32;        // px: the noise plane is shifted per frame
 constexpr double kBoundsMargin = 0.01;  // m around objects when bounding them

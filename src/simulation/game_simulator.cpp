@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "soccer_vision/common/angle.h"
+#include "soccer_vision/common/ball.h"
 
 namespace soccer_vision {
 
@@ -16,7 +17,6 @@ namespace {
 constexpr double kMaxSubStep = 0.002;      // s
 constexpr double kRobotSpeedCap = 5.0;     // m/s, the game's limits
 constexpr double kBallSpeedCap = 15.0;     // m/s
-constexpr double kBallRadius = 0.0215;     // m
 constexpr double kArrivalDistance = 0.05;  // m: target reached, pick the next one
 constexpr double kHeadingTime = 0.25;      // s: time constant of the heading controller
 constexpr double kAvoidRange = 0.30;       // m of gap where robots start steering apart

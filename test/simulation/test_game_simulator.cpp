@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/simulation/game_simulator.h"
 
 using namespace soccer_vision;
@@ -14,7 +15,6 @@ using namespace soccer_vision;
 namespace {
 
 constexpr double kRobotRadius = 0.09;
-constexpr double kBallRadius = 0.0215;
 constexpr double kEps = 1e-9;
 
 ScenarioConfig preset(const std::string& name) {

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/rejection_counts.h"
 
@@ -25,7 +26,7 @@ struct RobotDetection {
 
 struct BallDetection {
   double x = 0, y = 0;          // [m] ball centre on the field
-  double z = 0.0215;            // [m] ball centre height assumed for the projection
+  double z = kBallRadius;       // [m] ball centre height assumed for the projection
   double confidence = 0;        // [0..1]
   Eigen::Vector2d pixel{0, 0};  // raw image pixel of the ball centre
   double area_px = 0;           // region area [px]

@@ -16,6 +16,7 @@
 
 #include <vector>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/detections.h"
 #include "soccer_vision/common/field_geometry.h"
@@ -26,7 +27,7 @@ namespace soccer_vision {
 
 struct BallDetectionParams {
   ColorClass color = ColorClass::Orange;
-  double radius = 0.0215;       // m; the centre is assumed at this height too
+  double radius = kBallRadius;  // m; the centre is assumed at this height too
   double area_ratio_min = 0.3;  // observed / expected pixel area (motion blur, partial occlusion)
   double area_ratio_max = 3.0;
   double area_sigma = 0.5;  // scoring scale of ln(observed / expected area)

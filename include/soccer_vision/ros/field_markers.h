@@ -11,6 +11,7 @@
 
 #include "soccer_vision/BallPoseArray.h"
 #include "soccer_vision/RobotPoseArray.h"
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/common/robot_pattern.h"
 
@@ -19,7 +20,7 @@ namespace soccer_vision {
 struct MarkerStyle {
   double robot_radius = 0.090;             // m
   TeamHeights robot_height{0.150, 0.150};  // m, per team
-  double ball_radius = 0.0215;             // m
+  double ball_radius = kBallRadius;        // m
   double lifetime = 0.25;                  // s: a robot no longer published disappears after this
 };
 

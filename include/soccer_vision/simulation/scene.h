@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/color_class.h"
 
 namespace soccer_vision {
@@ -16,8 +17,8 @@ struct RobotState {
 };
 
 struct BallState {
-  double x = 0, y = 0, z = 0.0215;  // m; z of the centre
-  double vx = 0, vy = 0, vz = 0;    // m/s
+  double x = 0, y = 0, z = kBallRadius;  // m; z of the centre
+  double vx = 0, vy = 0, vz = 0;         // m/s
 };
 
 struct SceneState {

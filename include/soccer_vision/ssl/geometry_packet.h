@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "ssl_vision_wrapper.pb.h"
@@ -13,8 +14,8 @@
 namespace soccer_vision::ssl {
 
 struct GeometryPacketOptions {
-  double ball_radius = 0.0215;     // [m]
-  double max_robot_radius = 0.09;  // [m]
+  double ball_radius = kBallRadius;  // [m]
+  double max_robot_radius = 0.09;    // [m]
 };
 
 struct CameraCalibrationInput {

@@ -1,7 +1,7 @@
 // Search windows (paper §III-C): where the next frame of one camera is searched, from the
 // tracker's prediction for that frame. A window is a square of side R pixels centred on
 // the projection of the predicted position (robots at their team's marker height, 0.150 m
-// unless the pattern says otherwise; the ball at its centre, 0.0215 m), grown on each side by
+// unless the pattern says otherwise; the ball at its centre, kBallRadius), grown on each side by
 //  - sigma_scale × the largest std-dev of the predicted position (the window keeps up with
 //    the prediction's uncertainty: long gaps, new tracks with unknown velocity), and
 //  - for the ball, ball_speed_margin × the distance it travels in one frame interval (a
@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <opencv2/core/types.hpp>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/robot_pattern.h"
@@ -26,13 +27,13 @@ struct SearchWindowParams {
   int side_px = 200;  // R [px], side of the window before enlargement
   // [m] plane of the robot markers per team (PatternSet::heights).
   TeamHeights robot_height{0.150, 0.150};
-  double ball_height = 0.0215;     // [m] plane of the ball centre
-  double sigma_scale = 3.0;        // grow by this many std-devs of the predicted position (0: off)
-  double ball_speed_margin = 0.5;  // grow ball windows by this fraction of one frame's travel (0: off)
-  int max_side_px = 800;           // [px] cap on the enlarged side
-  double expected_margin_px = 20;  // [px] a target is expected in this camera when its
-                                   //      predicted centre is this far inside the image
-  bool alternative_balls = true;   // windows also for the non-primary ball tracks
+  double ball_height = kBallRadius;  // [m] plane of the ball centre
+  double sigma_scale = 3.0;          // grow by this many std-devs of the predicted position (0: off)
+  double ball_speed_margin = 0.5;    // grow ball windows by this fraction of one frame's travel (0: off)
+  int max_side_px = 800;             // [px] cap on the enlarged side
+  double expected_margin_px = 20;    // [px] a target is expected in this camera when its
+                                     //      predicted centre is this far inside the image
+  bool alternative_balls = true;     // windows also for the non-primary ball tracks
 };
 
 void validate(const SearchWindowParams& p);  // throws std::invalid_argument

@@ -49,6 +49,7 @@
 
 #include <Eigen/Core>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/detections.h"
 #include "soccer_vision/common/field_geometry.h"
@@ -146,8 +147,8 @@ struct TrackedRobot {
 struct TrackedBall {
   int track_id = 0;
   bool primary = false;
-  double x = 0, y = 0, z = 0.0215;  // [m]
-  double vx = 0, vy = 0;            // [m/s]
+  double x = 0, y = 0, z = kBallRadius;  // [m]
+  double vx = 0, vy = 0;                 // [m/s]
   double confidence = 0;
   int camera_id = 0;
   bool visible = false;
