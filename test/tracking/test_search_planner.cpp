@@ -280,11 +280,11 @@ TEST(SearchPlanner, ALostBallIsSearchedForWithTheStreakTableInTheSweepWithinTheL
 
 // Held-out seed 9068 of rand_fast (spent): the ball came into camera 0's view at 8.3 m/s
 // through the image's lower edge, a streak the colour table's orange does not reach (10 px
-// of its core, a third of a ball's area), and was found only when the sweep's stripe came
-// to it, 9 frames later (ball detection 94.3 %). While no ball is seen, the entry bands
-// within the playing area's image are streak windows in every frame, as the stripe is in
-// turn: a ball comes into view through them. None beyond the lines; none while the ball is
-// seen (its own window is one then).
+// of its core, under the 30 % of a ball's area the gate asks), and was found only when the
+// sweep's stripe came to it, 9 frames later (ball detection 94.3 %). While no ball is seen,
+// the entry bands within the playing area's image are streak windows in every frame, as
+// the stripe is in turn: a ball comes into view through them. None beyond the lines; none
+// while the ball is seen (its own window is one then).
 TEST(SearchPlanner, ALostBallIsSearchedForWithTheStreakTableInTheEntryBandsInEveryFrame) {
   const FieldGeometry field;
   const CameraModel camera = CameraModel::defaultCamera(field, 0);
