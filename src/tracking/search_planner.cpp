@@ -99,7 +99,8 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   if (plan.global_search) return plan;
   plan.rects = windowRects(plan.windows);
   const cv::Size image(camera->width(), camera->height());
-  for (const cv::Rect& band : entryBands(image, params_.entry_band_px)) plan.rects.push_back(band);
+  const std::vector<cv::Rect> bands = entryBands(image, params_.entry_band_px);
+  plan.rects.insert(plan.rects.end(), bands.begin(), bands.end());
   const int stripes = params_.global_search.period_frames;
   if (params_.sweep && stripes > 0) {
     plan.sweep_stripe = sweepStripe(image, next_stripe_, stripes, params_.entry_band_px);
@@ -108,13 +109,13 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   }
   if (params_.lost_ball_sweep_streaks && plan.ball_streak_rects.empty() && !plan.sweep_stripe.empty() &&
       tracker.params().field) {
-    // The stripe and the entry bands: a fast ball comes into view through a band.
+    // The entry bands and the stripe: a fast ball comes into view through a band.
     const cv::Rect play = playingAreaImageRect(*camera, *tracker.params().field);
-    for (const cv::Rect& band : entryBands(image, params_.entry_band_px)) {
-      if (!(band & play).empty()) plan.lost_ball_streak_rects.push_back(band & play);
-    }
-    const cv::Rect in_play = plan.sweep_stripe & play;
-    if (!in_play.empty()) plan.lost_ball_streak_rects.push_back(in_play);
+    auto addInPlay = [&](const cv::Rect& r) {
+      if (!(r & play).empty()) plan.lost_ball_streak_rects.push_back(r & play);
+    };
+    for (const cv::Rect& band : bands) addInPlay(band);
+    addInPlay(plan.sweep_stripe);
   }
   return plan;
 }
