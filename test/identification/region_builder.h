@@ -55,17 +55,23 @@ inline Region rasterise(ColorClass color, const Eigen::Vector2d& centre, int rea
   return r;
 }
 
+// Pixels inside the image: markerRegion's `keep` for a marker the image's edge cuts.
+inline std::function<bool(const Eigen::Vector2d&)> inImage(const CameraModel& camera) {
+  return [w = camera.width(), h = camera.height()](const Eigen::Vector2d& p) {
+    return p.x() >= -0.5 && p.y() >= -0.5 && p.x() < w - 0.5 && p.y() < h - 0.5;
+  };
+}
+
 // Region of one marker (shape in the robot frame) of a robot at (x, y, theta), plane z;
-// with `in_image_only` only its part inside the image (the edge cuts it).
+// with `keep`, only its (sub-)pixels for which keep holds (a part the image's edge left).
 inline Region markerRegion(const CameraModel& camera, const MarkerShape& s, ColorClass color, double x,
-                           double y, double theta, double z, bool in_image_only = false) {
+                           double y, double theta, double z,
+                           const std::function<bool(const Eigen::Vector2d&)>& keep = {}) {
   const double c = std::cos(theta), sn = std::sin(theta);
   const Eigen::Vector3d centre(x + c * s.x - sn * s.y, y + sn * s.x + c * s.y, z);
   const auto px = camera.project(centre);
   return rasterise(color, *px, 14, [&](const Eigen::Vector2d& p) {
-    if (in_image_only &&
-        (p.x() < -0.5 || p.y() < -0.5 || p.x() >= camera.width() - 0.5 || p.y() >= camera.height() - 0.5))
-      return false;
+    if (keep && !keep(p)) return false;
     const auto f = camera.pixelToField(p, z);
     if (!f) return false;
     const double dx = f->x() - x, dy = f->y() - y;

@@ -20,8 +20,8 @@
 using namespace soccer_vision;
 using soccer_vision::test::ballRegion;
 using soccer_vision::test::discBlob;
+using soccer_vision::test::inImage;
 using soccer_vision::test::markerRegion;
-using soccer_vision::test::rasterise;
 
 namespace {
 
@@ -372,32 +372,25 @@ TEST(RobotIdentification, ARoleDiscCutAlongWithItsTeamTagGivesNoId) {
 
   // The robot's centre 4 mm inside the edge; the disc's part in the image's last 3 rows.
   const Eigen::Vector2d entering = mid + 0.004 * in;
-  const double c = std::cos(heading), sn = std::sin(heading);
-  const auto disc_px = kCamera.project({entering.x() + c * disc.x, entering.y() + sn * disc.x, z});
-  ASSERT_TRUE(disc_px);
-  const Region fringe = rasterise(ColorClass::Purple, *disc_px, 14, [&](const Eigen::Vector2d& q) {
-    if (q.y() >= v_edge || q.y() < v_edge - 3) return false;
-    const auto f = kCamera.pixelToField(q, z);
-    if (!f) return false;
-    const double dx = f->x() - entering.x(), dy = f->y() - entering.y();
-    const double lx = c * dx + sn * dy - disc.x, ly = -sn * dx + c * dy - disc.y;
-    return lx * lx + ly * ly <= disc.radius * disc.radius;
-  });
+  const Region fringe =
+      markerRegion(kCamera, disc, ColorClass::Purple, entering.x(), entering.y(), heading, z,
+                   [&](const Eigen::Vector2d& q) { return q.y() < v_edge && q.y() >= v_edge - 3; });
   const Region full = markerRegion(kCamera, disc, ColorClass::Pink, entering.x(), entering.y(), heading, z);
   ASSERT_GT(fringe.area, 0u);
   ASSERT_LT(fringe.area, 0.5 * full.area);
   ASSERT_LT(fringe.bbox.height, 0.75 * full.bbox.height);
-  const std::vector<Region> cut = {
-      markerRegion(kCamera, markers[0].shape, markers[0].color, entering.x(), entering.y(), heading, z, true),
-      fringe};
+  const std::vector<Region> cut = {markerRegion(kCamera, markers[0].shape, markers[0].color, entering.x(),
+                                                entering.y(), heading, z, inImage(kCamera)),
+                                   fringe};
   const auto seen = RobotIdentifier(kCamera, p).identify(cut).robots;
   EXPECT_FALSE(find(seen, Team::Blue, 1)) << "its id read from what the edge left of its disc";
   EXPECT_TRUE(seen.empty());
 
   const Eigen::Vector2d inside = mid + 0.1 * in;
   const std::vector<Region> whole = {
-      markerRegion(kCamera, markers[0].shape, markers[0].color, inside.x(), inside.y(), heading, z, true),
-      markerRegion(kCamera, disc, ColorClass::Pink, inside.x(), inside.y(), heading, z, true)};
+      markerRegion(kCamera, markers[0].shape, markers[0].color, inside.x(), inside.y(), heading, z,
+                   inImage(kCamera)),
+      markerRegion(kCamera, disc, ColorClass::Pink, inside.x(), inside.y(), heading, z, inImage(kCamera))};
   ASSERT_TRUE(find(RobotIdentifier(kCamera, p).identify(whole).robots, Team::Blue, 0));
 }
 
