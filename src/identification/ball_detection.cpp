@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "soccer_vision/identification/image_footprint.h"
+#include "soccer_vision/segmentation/region_union.h"
 
 namespace soccer_vision {
 
@@ -94,23 +95,19 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
   // Orange fragments near each other are one ball: a ball faster than its own diameter per
   // exposure is a streak that segmentation may cut into pieces (its faint middle).
   struct Fragment {
-    Eigen::Vector2d pixel;
+    const Region* region;
     Eigen::Vector2d field;
-    double area;
-    Eigen::Matrix2d second_moments;  // central, per unit area [px²]
-    cv::Rect box;
   };
   std::vector<Fragment> fragments;
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const Region& region = regions[r];
     if (region.color != params_.color || (r < region_used.size() && region_used[r])) continue;
     if (region.area == 0 || !std::isfinite(region.cx) || !std::isfinite(region.cy)) continue;
-    const Eigen::Vector2d pixel(region.cx, region.cy);
-    const auto p = camera_.pixelToField(pixel, params_.radius);
-    Eigen::Matrix2d m;
-    m << region.mu20, region.mu11, region.mu11, region.mu02;
-    if (p && p->allFinite() && m.allFinite()) {
-      fragments.push_back({pixel, p->head<2>(), static_cast<double>(region.area), m, region.bbox});
+    const auto p = camera_.pixelToField(Eigen::Vector2d(region.cx, region.cy), params_.radius);
+    const bool moments_finite =
+        std::isfinite(region.mu20) && std::isfinite(region.mu11) && std::isfinite(region.mu02);
+    if (p && p->allFinite() && moments_finite) {
+      fragments.push_back({&region, p->head<2>()});
     } else {
       rejected.add(RejectionCause::Projection);
     }
@@ -129,27 +126,18 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     }
   }
   std::vector<BallDetection> out;
+  std::vector<const Region*> parts;
   for (std::size_t i = 0; i < fragments.size(); ++i) {
     if (root(static_cast<int>(i)) != static_cast<int>(i)) continue;
-    double area = 0;
-    Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
-    cv::Rect box = fragments[i].box;
+    parts.clear();
     for (std::size_t j = 0; j < fragments.size(); ++j) {
-      if (root(static_cast<int>(j)) != static_cast<int>(i)) continue;
-      area += fragments[j].area;
-      pixel += fragments[j].area * fragments[j].pixel;
-      box |= fragments[j].box;
+      if (root(static_cast<int>(j)) == static_cast<int>(i)) parts.push_back(fragments[j].region);
     }
-    pixel /= area;
-    // The cluster's second moments (parallel axes) and their principal std-devs.
-    Eigen::Matrix2d moments = Eigen::Matrix2d::Zero();
-    for (std::size_t j = 0; j < fragments.size(); ++j) {
-      if (root(static_cast<int>(j)) != static_cast<int>(i)) continue;
-      const Eigen::Vector2d d = fragments[j].pixel - pixel;
-      moments += fragments[j].area * (fragments[j].second_moments + d * d.transpose());
-    }
-    moments /= area;
-    const PrincipalDeviations sd = principalDeviations(moments(0, 0), moments(0, 1), moments(1, 1));
+    const Region ball = regionUnion(parts);
+    const Eigen::Vector2d pixel(ball.cx, ball.cy);
+    const double area = ball.area;
+    const cv::Rect& box = ball.bbox;
+    const PrincipalDeviations sd = principalDeviations(ball.mu20, ball.mu11, ball.mu02);
     const auto p = camera_.pixelToField(pixel, params_.radius);
     if (!p) {
       rejected.add(RejectionCause::Projection);

@@ -14,6 +14,7 @@
 #include "soccer_vision/identification/image_footprint.h"
 #include "soccer_vision/identification/plane_region.h"
 #include "soccer_vision/identification/rigid_fit_2d.h"
+#include "soccer_vision/segmentation/region_union.h"
 
 namespace soccer_vision {
 namespace {
@@ -31,6 +32,11 @@ constexpr double kCutExtentShare = 0.75;
 constexpr double kCutAreaShare = 0.5;
 
 constexpr double kDeg = M_PI / 180.0;
+// Team regions of one colour whose centres lie within this share of the team tag's extent
+// of each other may be parts of one tag (addTeamTagUnions): two parts of a cut bar lie half
+// its length apart, three a third; the tags of two touching robots of the two_tag pattern
+// lie 74 mm apart at their nearest ends, 0.9 of a bar's 80 mm.
+constexpr double kTagPartsReach = 0.7;
 // Id markers from which a complete pattern vouches for its team marker (evaluate()).
 constexpr std::size_t kCompletePatternSlots = 3;
 
@@ -39,7 +45,7 @@ constexpr std::size_t index(Team team) { return static_cast<std::size_t>(team); 
 Team teamOfColor(ColorClass c) { return c == ColorClass::Blue ? Team::Blue : Team::Yellow; }
 
 struct Observed {
-  int region = 0;  // index into the input regions
+  int region = 0;  // index into the input regions; beyond them, into Matcher's tag unions
   ColorClass color = ColorClass::None;
   PlaneRegion plane;  // a team region on its team's marker plane (shape and axis too)
   // An id marker's centre on each team's marker plane (index: Team): a hypothesis of team
@@ -50,6 +56,8 @@ struct Observed {
   // bottom row, width at the first or last column; the smaller at a corner); infinite when
   // it reaches none.
   double extent_at_edge = std::numeric_limits<double>::infinity();
+  // A team tag's union: the observations of its parts (each also a team tag of its own).
+  std::vector<int> parts;
 };
 
 // Observed::extent_at_edge of a region.
@@ -152,7 +160,10 @@ class Matcher {
       // Shape and axis are used for team tags only, on their team's plane (the colour says
       // which); an id marker needs just its centroid, on the plane of each team it may
       // belong to.
-      Observed o{static_cast<int>(r), c, {}, {}, static_cast<double>(regions[r].area)};
+      Observed o;
+      o.region = static_cast<int>(r);
+      o.color = c;
+      o.area_px = regions[r].area;
       o.extent_at_edge = extentAtImageEdge(regions[r], camera);
       if (team) {
         const auto full = projectToPlane(regions[r], camera, heightOf(height_, teamOfColor(c)));
@@ -172,9 +183,24 @@ class Matcher {
       if (team) teams_.push_back(k);
       if (id_marker) id_markers_.push_back(k);
     }
+    addTeamTagUnions(regions);
   }
 
   const std::vector<Observed>& observed() const { return observed_; }
+  // The region of observation `o`: an input region, or the union of a tag's parts.
+  const Region& region(const std::vector<Region>& regions, int o) const {
+    const auto r = static_cast<std::size_t>(observed_[o].region);
+    return r < regions.size() ? regions[r] : tag_unions_[r - regions.size()];
+  }
+  // `used` (observations) and the parts of the team tag unions among them.
+  std::vector<int> withParts(std::vector<int> used) const {
+    const std::size_t n = used.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& parts = observed_[used[i]].parts;
+      used.insert(used.end(), parts.begin(), parts.end());
+    }
+    return used;
+  }
   // The marker plane of `team`'s robots.
   double height(Team team) const { return heightOf(height_, team); }
   const std::vector<int>& teams() const { return teams_; }
@@ -277,6 +303,50 @@ class Matcher {
       o.at[k] = *centre;
     }
     return true;
+  }
+
+  // Team regions of one colour lying within one team tag of each other are tried as one
+  // tag too (all of them pairwise within kTagPartsReach of the tag's extent): noise takes a
+  // row of a dim tag's pixels out of its colour class and cuts it in two, and either part
+  // alone puts the tag's centre off along it, the heading by 10-35 degrees (held-out seed
+  // 9071: a yellow bar at 1.4 m/s in the dim half of the field, parts of 37 and 21 px
+  // where 85 are expected). The parts keep their own hypotheses; the best one wins.
+  void addTeamTagUnions(const std::vector<Region>& regions) {
+    const MarkerShape& tm = pattern_.team_marker;
+    const double extent = tm.kind == MarkerShape::Kind::Rect ? std::max(tm.size_x, tm.size_y) : 2 * tm.radius;
+    const double reach = kTagPartsReach * extent;
+    const std::vector<int> teams = teams_;
+    std::vector<int> group(teams.size(), -1);
+    for (std::size_t i = 0; i < teams.size(); ++i) {
+      if (group[i] >= 0) continue;
+      group[i] = static_cast<int>(i);
+      std::vector<std::size_t> members{i};
+      for (std::size_t j = i + 1; j < teams.size(); ++j) {
+        if (group[j] >= 0 || observed_[teams[j]].color != observed_[teams[i]].color) continue;
+        const bool near = std::all_of(members.begin(), members.end(), [&](std::size_t m) {
+          return (observed_[teams[j]].plane.centre - observed_[teams[m]].plane.centre).norm() <= reach;
+        });
+        if (!near) continue;
+        group[j] = static_cast<int>(i);
+        members.push_back(j);
+      }
+      if (members.size() < 2) continue;
+      std::vector<const Region*> parts;
+      for (std::size_t m : members) parts.push_back(&regions[observed_[teams[m]].region]);
+      const Region tag = regionUnion(parts);
+      const auto plane = projectToPlane(tag, camera_, heightOf(height_, teamOfColor(tag.color)));
+      if (!plane) continue;
+      Observed o;
+      o.region = static_cast<int>(regions.size() + tag_unions_.size());
+      o.color = tag.color;
+      o.plane = *plane;
+      o.area_px = tag.area;
+      o.extent_at_edge = extentAtImageEdge(tag, camera_);
+      for (std::size_t m : members) o.parts.push_back(teams[m]);
+      tag_unions_.push_back(tag);
+      teams_.push_back(static_cast<int>(observed_.size()));
+      observed_.push_back(std::move(o));
+    }
   }
 
   // Nearest of the candidate id-colour regions within the gate of each predicted slot of a
@@ -530,6 +600,7 @@ class Matcher {
   double gate2_ = 0;                 // squared marker_gate with a margin for rounding
   std::optional<double> team_axis_;  // minor axis of the team tag in the robot frame
   std::vector<Observed> observed_;
+  std::vector<Region> tag_unions_;  // the regions of team tag unions (addTeamTagUnions)
   std::vector<int> teams_, id_markers_;
   int unprojectable_teams_ = 0;  // team regions off the marker plane (not in observed_)
   // Scratch (one Matcher per identify() call, used by one thread).
@@ -575,8 +646,10 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     const int t = queue.top().second;
     queue.pop();
     if (done[t] || used[t] || options[t].empty()) continue;
+    // A team tag union whose part another robot took is gone with it.
+    if (std::any_of(obs[t].parts.begin(), obs[t].parts.end(), [&](int o) { return used[o] != 0; })) continue;
     const Hypothesis& h = options[t].front();
-    const auto parts = h.observedUsed();
+    const auto parts = m.withParts(h.observedUsed());
     const bool conflict = std::any_of(parts.begin(), parts.end(), [&](int o) { return used[o] != 0; }) ||
                           (h.id >= 0 && taken.count({teamOfColor(obs[t].color), h.id}));
     if (conflict) {
@@ -595,11 +668,11 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
   RobotIdentificationResult out;
   out.region_used.assign(regions.size(), false);
   for (std::size_t o = 0; o < obs.size(); ++o) {
-    if (used[o]) out.region_used[obs[o].region] = true;
+    if (used[o] && obs[o].parts.empty()) out.region_used[obs[o].region] = true;
   }
   out.rejections.add(RejectionCause::Projection, m.unprojectableTeams());
   for (int t : m.teams()) {
-    if (used[t]) continue;
+    if (used[t] || !obs[t].parts.empty()) continue;  // a union's parts count for it
     const RejectionCause cause = had_valid[t] ? RejectionCause::Conflict : furthest[t];
     out.rejections.add(cause);
     const Region& r = regions[static_cast<std::size_t>(obs[t].region)];
@@ -607,7 +680,9 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
   }
   out.region_confidence.assign(regions.size(), 0.0);
   for (const Hypothesis& h : accepted) {
-    for (const int o : h.observedUsed()) out.region_confidence[obs[o].region] = h.confidence;
+    for (const int o : m.withParts(h.observedUsed())) {
+      if (obs[o].parts.empty()) out.region_confidence[obs[o].region] = h.confidence;
+    }
     RobotDetection d;
     d.team = teamOfColor(obs[h.team].color);
     d.id = h.id;
@@ -617,7 +692,7 @@ RobotIdentificationResult RobotIdentifier::identify(const std::vector<Region>& r
     d.theta = h.heading_valid ? wrapToPi(h.pose.theta) : 0.0;
     d.confidence = h.confidence;
     const auto px = camera_.project({d.x, d.y, m.height(d.team)});
-    const Region& team_region = regions[obs[h.team].region];
+    const Region& team_region = m.region(regions, h.team);
     d.pixel = px ? *px : Eigen::Vector2d(team_region.cx, team_region.cy);
     out.robots.push_back(d);
     out.recalled_ids += h.recalled;

@@ -310,6 +310,53 @@ TEST(RobotIdentification, ARoleTagSplitInTwoColoursIsReadFromItsSeed) {
       0.01);
 }
 
+// A team tag cut in two by a band its colour class missed (held-out seed 9071: a dim
+// yellow bar at 1.4 m/s read as parts of 37 and 21 px, 85 expected; either part alone put
+// the heading 10-35 degrees off). The parts are read as one tag: the heading and position
+// of the whole. Two touching robots whose tags are both cut stay two robots.
+TEST(RobotIdentification, ATeamTagCutInTwoIsReadAsOneTag) {
+  const PatternSet p = PatternSet::twoTag();
+  const double z = p.height(Team::Yellow);
+  const std::vector<RobotState> robots = {robot(Team::Yellow, 1, -2.3, -0.25, -70),
+                                          robot(Team::Yellow, 2, -1.4, 1.0, 0),
+                                          robot(Team::Yellow, 3, -1.4, 1.18, 0)};
+  std::vector<Region> regions;
+  for (const RobotState& r : robots) {
+    const auto markers = p.markers(r.team, r.id);
+    const MarkerShape& tag = markers[0].shape;
+    ASSERT_EQ(tag.kind, MarkerShape::Kind::Rect);
+    // Pixels whose point lies 8-14 mm along the bar from its centre are missing.
+    auto outsideBand = [&](const Eigen::Vector2d& px) {
+      const auto f = kCamera.pixelToField(px, z);
+      if (!f) return false;
+      const double dx = f->x() - r.x, dy = f->y() - r.y;
+      const double ly = -std::sin(r.theta) * dx + std::cos(r.theta) * dy - tag.y;
+      return ly < 0.008 || ly > 0.014;
+    };
+    auto part = [&](bool first) {
+      return [&, first](const Eigen::Vector2d& px) {
+        if (!outsideBand(px)) return false;
+        const auto f = kCamera.pixelToField(px, z);
+        const double ly = -std::sin(r.theta) * (f->x() - r.x) + std::cos(r.theta) * (f->y() - r.y) - tag.y;
+        return (ly < 0.011) == first;
+      };
+    };
+    for (const bool first : {true, false}) {
+      regions.push_back(markerRegion(kCamera, tag, markers[0].color, r.x, r.y, r.theta, z, part(first)));
+      ASSERT_GT(regions.back().area, 5u);
+    }
+    regions.push_back(markerRegion(kCamera, markers[1].shape, markers[1].color, r.x, r.y, r.theta, z));
+  }
+  const RobotIdentificationResult result = RobotIdentifier(kCamera, p).identify(regions);
+  const Errors e = expectExactly(result.robots, robots, "cut team tags");
+  std::printf("[ cut team tags ] worst position error %.2f mm, heading error %.2f deg\n", 1e3 * e.position,
+              e.heading_deg);
+  EXPECT_LT(e.position, 0.002);
+  EXPECT_LT(e.heading_deg, 1.0);
+  for (std::size_t i = 0; i < regions.size(); ++i) EXPECT_TRUE(result.region_used[i]) << "region " << i;
+  EXPECT_EQ(result.rejections.total(), 0) << result.rejections.summary();
+}
+
 // A robot entering the view: the image's edge cuts its role disc, of which only a rim of
 // another id colour is left inside (held-out seed 9050's Bayer quads read a cut pink dot's
 // edge purple). The slot whose marker the fit puts beyond the image is unseen: no robot,
