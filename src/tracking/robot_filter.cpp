@@ -193,7 +193,7 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
     unturned_.reset();  // decided by this heading
     const double dtheta = wrapToPi(m.theta - x_(2));
     heading_maneuver =
-        !use_heading && p_.maneuver_omega_change > 0 &&
+        !use_heading && !m.unsure && p_.maneuver_omega_change > 0 &&
         std::abs(dtheta) <=
             std::min(kMaxManeuverTurn, p_.maneuver_omega_change * since_heading_ + p_.gate_min_angle);
     if (heading_maneuver) {

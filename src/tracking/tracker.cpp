@@ -154,6 +154,7 @@ RobotMeasurement Tracker::compensated(const RobotTrack& track, const RobotDetect
   m.theta = wrapToPi(d.theta + s(5) * lag);
   m.heading_valid = d.heading_valid;
   m.lag = lag;  // the filter grows its noise by the velocities' uncertainty over the lag
+  m.unsure = d.confidence < p_.min_start_confidence;
   return m;
 }
 

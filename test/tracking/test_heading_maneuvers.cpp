@@ -154,6 +154,48 @@ TEST(HeadingManeuver, ASingleMisreadHeadingIsUndoneByTheNext) {
   EXPECT_NEAR(f.state()(2), 1.27 + 0.40, 2.0 * kDeg);
 }
 
+TEST(HeadingManeuver, AnUnsureHeadingNeverTurnsTheTrack) {
+  // Held-out seed 9071: a detection at confidence 0.05, read from one part of a team tag
+  // cut in two, was 20° off; taken as a turn, the track was 19° off for a frame. A
+  // detection too unsure to begin a track (RobotMeasurement::unsure) corrects the heading
+  // within the gate but never turns it; a turn seen only by unsure detections restarts
+  // the heading after reinit_after_rejections frames.
+  RobotFilterParams p;
+  auto still = [&] {
+    RobotFilter f(p, {0, 0, 1.27, true});
+    for (int k = 0; k < 60; ++k) {
+      f.predict(kDt);
+      f.update({0, 0, 1.27, true});
+    }
+    return f;
+  };
+  auto unsure = [](double theta) {
+    RobotMeasurement m{0, 0, theta, true};
+    m.unsure = true;
+    return m;
+  };
+  RobotFilter sure = still();
+  sure.predict(kDt);
+  EXPECT_EQ(sure.update({0, 0, 1.27 + 0.35, true}), GateResult::HeadingManeuver);
+  EXPECT_GT(std::abs(wrapToPi(sure.state()(2) - 1.27)), 15 * kDeg);
+
+  RobotFilter f = still();
+  f.predict(kDt);
+  EXPECT_EQ(f.update(unsure(1.27 + 0.35)), GateResult::HeadingRejected);
+  EXPECT_LT(std::abs(wrapToPi(f.state()(2) - 1.27)), 0.5 * kDeg);
+  f.predict(kDt);
+  EXPECT_EQ(f.update(unsure(1.27 + 0.02)), GateResult::Accepted);  // within the gate: used
+  EXPECT_LT(std::abs(wrapToPi(f.state()(2) - 1.27)), 1.5 * kDeg);
+  // A turn at 8 rad/s that only unsure detections see: the heading restarts on the third.
+  double theta = 1.27;
+  for (int k = 1; k <= p.reinit_after_rejections; ++k) {
+    theta += 8 * kDt;
+    f.predict(kDt);
+    EXPECT_EQ(f.update(unsure(theta + 0.2)), GateResult::HeadingRejected) << k;
+  }
+  EXPECT_NEAR(wrapToPi(f.state()(2) - (theta + 0.2)), 0.0, 1e-9);
+}
+
 TEST(HeadingManeuver, StillRobotWithNoisyHeadingsStaysStill) {
   // Measurement noise at the filter's sigma_theta never looks like a turn: no manoeuvres,
   // the heading smoothed below the noise and ω as calm as without manoeuvres (0.39 rad/s

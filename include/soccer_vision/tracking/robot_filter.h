@@ -33,7 +33,11 @@
 // true headings fall outside the turned prediction's gate, and the track turns away for
 // reinit_after_rejections frames (15°, 30°, 45° on held-out seed 9028). When the next
 // heading fits the state without the manoeuvre's heading but not the turned one, the
-// filter returns to the former (GateResult::ManeuverUndone).
+// filter returns to the former (GateResult::ManeuverUndone). An unsure measurement
+// (RobotMeasurement::unsure) is never taken as a turn: a detection at confidence 0.05 read
+// from one part of a cut team tag turned a track by 19° for a frame (held-out seed 9071);
+// a real turn seen only by unsure detections restarts the heading after
+// reinit_after_rejections frames, as before manoeuvres were taken.
 #pragma once
 
 #include <optional>
@@ -73,6 +77,9 @@ struct RobotMeasurement {
   // frame fused late). x, y, θ are already moved forward along the filter's velocities; the
   // filter adds the velocities' uncertainty and the accelerations over the lag to its noise.
   double lag = 0;
+  // A detection too unsure to begin a track (Tracker's min_start_confidence): its heading
+  // may correct the track within the gate but never turn it (no heading manoeuvre).
+  bool unsure = false;
 };
 
 enum class GateResult {

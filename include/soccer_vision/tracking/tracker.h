@@ -67,7 +67,8 @@ struct TrackerParams {
   double ball_lost_timeout = 0.5;   // [s] likewise for ball tracks
   double min_confidence = 0.0;      // [0..1] detections below are ignored
   // [0..1] a robot track begins only from a detection at least this sure; weaker ones still
-  // measure the track of their robot. A phantom of fringe regions along a line is unsure
+  // measure the track of their robot, but their heading never turns it
+  // (RobotMeasurement::unsure). A phantom of fringe regions along a line is unsure
   // (0.11-0.13), a robot rarely (docs/tracking.md).
   double min_start_confidence = 0.2;
   // [0..1] likewise for ball tracks: a weaker candidate measures a ball track whose gate it
