@@ -20,7 +20,8 @@
 // visible robots/balls per frame from the ground truth, encoding and resolution; and, when
 // the tracking outputs arrive, their rate and latency (capture stamp -> receipt, p50/p99)
 // and their score against the ground truth of the same stamps (scoring.h: detection rate,
-// precision, identity errors, position and heading RMSE, ball detection and RMSE).
+// precision, identity errors, position and heading RMSE, ball detection and RMSE) over the
+// frames whose four messages all arrived (printTrackingScore).
 // Exit status: 0 after a run with frames, 1 when no frame arrived, 2 on bad arguments,
 // 3 when the snapshot could not be written.
 #include <algorithm>
@@ -127,24 +128,41 @@ void printTrackingScore(const Monitor& m) {
     std::printf("  tracking          no %s received\n", "robots");
     return;
   }
+  // Scored: the frames whose robots and balls, output and truth, all arrived. Each topic's
+  // subscription connects on its own (under load the second one 0.7 s after the first:
+  // test_vision_pipeline), and the run may end between a frame's messages; such a frame,
+  // scored, counted a ball the vision system had not missed (its balls message not yet
+  // received) or a false one (its truth's). Frames left out before a topic's first
+  // message or after its last are counted apart from ones lost between.
   sv::Score score;
+  long connecting = 0, lost = 0;
+  const ros::Time first_balls = m.result_balls.empty() ? ros::TIME_MAX : m.result_balls.begin()->first;
+  const ros::Time last_balls = m.result_balls.empty() ? ros::TIME_MIN : m.result_balls.rbegin()->first;
+  const ros::Time first_truth = m.truth_balls.empty() ? ros::TIME_MAX : m.truth_balls.begin()->first;
+  const ros::Time last_truth = m.truth_balls.empty() ? ros::TIME_MIN : m.truth_balls.rbegin()->first;
   for (const auto& [stamp, robots] : m.result_robots) {
     const auto truth = m.truth_robots.find(stamp);
     if (truth == m.truth_robots.end()) continue;  // other camera's frame, or before the truth
     const auto truth_balls = m.truth_balls.find(stamp);
     const auto balls = m.result_balls.find(stamp);
-    const soccer_vision::BallPoseArray none;
-    score.add(sv::scoreFrame(
-        sv::toFrameRecord(*truth->second, truth_balls != m.truth_balls.end() ? *truth_balls->second : none),
-        sv::toFrameRecord(*robots, balls != m.result_balls.end() ? *balls->second : none)));
+    if (truth_balls == m.truth_balls.end() || balls == m.result_balls.end()) {
+      const bool outside =
+          stamp < std::max(first_balls, first_truth) || stamp > std::min(last_balls, last_truth);
+      ++(outside ? connecting : lost);
+      continue;
+    }
+    score.add(sv::scoreFrame(sv::toFrameRecord(*truth->second, *truth_balls->second),
+                             sv::toFrameRecord(*robots, *balls->second)));
   }
   const double span = (m.last_result - m.first_result).toSec();
   const double rate = m.result_robots.size() > 1 && span > 0 ? (m.result_robots.size() - 1) / span : 0.0;
   std::printf("  tracking outputs  %zu at %.2f Hz, latency capture -> receipt p50 %.2f ms, p99 %.2f ms\n",
               m.result_robots.size(), rate, 1e3 * sv::percentile(m.result_latencies, 50),
               1e3 * sv::percentile(m.result_latencies, 99));
-  std::printf("  scored frames     %ld (same stamp as a ground-truth frame)\n",
-              static_cast<long>(score.frames));
+  std::printf(
+      "  scored frames     %ld (robots and balls, output and truth, of one stamp); left out: %ld "
+      "before or after a topic's first or last message, %ld lost\n",
+      static_cast<long>(score.frames), connecting, lost);
   std::printf("  robots            detection %.3f %% (%ld of %ld), precision %.3f %%, identity errors %ld\n",
               100 * score.robotDetectionRate(), static_cast<long>(score.matched_robots),
               static_cast<long>(score.truth_robots), 100 * score.robotPrecision(),
