@@ -62,8 +62,8 @@ struct RobotIdentificationParams {
   double small_marker_confidence = 0.15;
   // A robot whose markers fit several ids (a missing SSL dot, a two-tag role disc unseen)
   // takes the one of them that the robot of its team last seen there had
-  // (RecentIdentities), with at most
-  // recalled_confidence: it measures its track and begins none.
+  // (RecentIdentities), with at most recalled_confidence: it measures its track and begins
+  // none.
   RecallParams recall;
   double recalled_confidence = 0.15;
   int max_missing_markers = 1;         // id markers a robot may lack and still be reported

@@ -8,9 +8,9 @@
 
 namespace soccer_vision {
 
-// The union of `parts` (at least one; the first's colour): areas summed, centroid
-// area-weighted, central second moments by the parallel-axis theorem, orientation from
-// those, bbox the union of the bboxes.
+// The union of `parts` (the first's colour): areas summed, centroid area-weighted, central
+// second moments by the parallel-axis theorem, orientation from those, bbox the union of
+// the bboxes. Throws std::invalid_argument when `parts` is empty.
 Region regionUnion(const std::vector<const Region*>& parts);
 
 }  // namespace soccer_vision
