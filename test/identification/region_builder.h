@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "soccer_vision/common/ball.h"
 #include "soccer_vision/common/camera_model.h"
 #include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/segmentation/region_extractor.h"
@@ -82,7 +83,8 @@ inline Region markerRegion(const CameraModel& camera, const MarkerShape& s, Colo
 }
 
 // Region of a ball (sphere of `radius` centred at `centre`).
-inline Region ballRegion(const CameraModel& camera, const Eigen::Vector3d& centre, double radius = 0.0215) {
+inline Region ballRegion(const CameraModel& camera, const Eigen::Vector3d& centre,
+                         double radius = kBallRadius) {
   const auto px = camera.project(centre);
   return rasterise(ColorClass::Orange, *px, 10, [&](const Eigen::Vector2d& p) {
     const Eigen::Vector3d ray = camera.pixelRay(p);

@@ -2,47 +2,27 @@
 
 #include <gtest/gtest.h>
 
+#include "identification/region_builder.h"
 #include "soccer_vision/segmentation/region_union.h"
 
 namespace sv = soccer_vision;
 
 namespace {
 
-// Binary moments of the pixels of `rect` that `keep` accepts.
+// Binary moments of the whole pixels (u, v) within `reach` of `centre` that `keep` accepts:
+// every sub-pixel sample of a pixel rounds to it, so coverage is 0 or 1.
 template <typename Keep>
-sv::Region pixelRegion(const cv::Rect& rect, Keep keep) {
-  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
-  cv::Rect box;
-  for (int y = rect.y; y < rect.y + rect.height; ++y) {
-    for (int x = rect.x; x < rect.x + rect.width; ++x) {
-      if (!keep(x, y)) continue;
-      n += 1;
-      sx += x;
-      sy += y;
-      sxx += double(x) * x;
-      sxy += double(x) * y;
-      syy += double(y) * y;
-      box = box.empty() ? cv::Rect(x, y, 1, 1) : box | cv::Rect(x, y, 1, 1);
-    }
-  }
-  sv::Region r;
-  r.color = sv::ColorClass::Yellow;
-  r.area = static_cast<std::uint32_t>(n);
-  r.cx = sx / n;
-  r.cy = sy / n;
-  r.mu20 = sxx / n - r.cx * r.cx;
-  r.mu11 = sxy / n - r.cx * r.cy;
-  r.mu02 = syy / n - r.cy * r.cy;
-  r.orientation = 0.5 * std::atan2(2 * r.mu11, r.mu20 - r.mu02);
-  r.bbox = box;
-  return r;
+sv::Region pixelRegion(const Eigen::Vector2d& centre, int reach, Keep keep) {
+  return sv::test::rasterise(sv::ColorClass::Yellow, centre, reach, [&](const Eigen::Vector2d& p) {
+    return keep(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+  });
 }
 
 }  // namespace
 
 // A tilted bar cut in two along a line across it: the union of the parts is the bar.
 TEST(RegionUnion, TheTwoPartsOfACutBarAreTheBar) {
-  const cv::Rect area(0, 0, 40, 40);
+  const Eigen::Vector2d centre(20, 20);
   auto inBar = [](int x, int y) {  // 6 px wide, 24 px long, tilted 30 degrees
     const double c = std::cos(0.5236), s = std::sin(0.5236);
     const double u = (x - 20) * c + (y - 20) * s, v = -(x - 20) * s + (y - 20) * c;
@@ -51,8 +31,8 @@ TEST(RegionUnion, TheTwoPartsOfACutBarAreTheBar) {
   auto side = [&](bool first) {
     return [&, first](int x, int y) { return inBar(x, y) && ((x + y < 41) == first); };
   };
-  const sv::Region whole = pixelRegion(area, inBar);
-  const sv::Region a = pixelRegion(area, side(true)), b = pixelRegion(area, side(false));
+  const sv::Region whole = pixelRegion(centre, 16, inBar);
+  const sv::Region a = pixelRegion(centre, 16, side(true)), b = pixelRegion(centre, 16, side(false));
   ASSERT_GT(a.area, 20u);
   ASSERT_GT(b.area, 20u);
   const sv::Region u = sv::regionUnion({&a, &b});
@@ -71,7 +51,8 @@ TEST(RegionUnion, TheTwoPartsOfACutBarAreTheBar) {
 }
 
 TEST(RegionUnion, OnePartIsItselfAndNoPartIsAnError) {
-  const sv::Region a = pixelRegion(cv::Rect(3, 4, 5, 6), [](int, int) { return true; });
+  const sv::Region a =
+      pixelRegion({5, 6}, 4, [](int u, int v) { return u >= 3 && u < 8 && v >= 4 && v < 10; });
   const sv::Region u = sv::regionUnion({&a});
   EXPECT_EQ(u.area, a.area);
   EXPECT_DOUBLE_EQ(u.cx, a.cx);
