@@ -325,20 +325,14 @@ TEST(RobotIdentification, ATeamTagCutInTwoIsReadAsOneTag) {
     const auto markers = p.markers(r.team, r.id);
     const MarkerShape& tag = markers[0].shape;
     ASSERT_EQ(tag.kind, MarkerShape::Kind::Rect);
-    // Pixels whose point lies 8-14 mm along the bar from its centre are missing.
-    auto outsideBand = [&](const Eigen::Vector2d& px) {
-      const auto f = kCamera.pixelToField(px, z);
-      if (!f) return false;
-      const double dx = f->x() - r.x, dy = f->y() - r.y;
-      const double ly = -std::sin(r.theta) * dx + std::cos(r.theta) * dy - tag.y;
-      return ly < 0.008 || ly > 0.014;
-    };
+    // Pixels whose point lies 8-14 mm along the bar from its centre are missing; the parts
+    // are the pixels before and after that band.
     auto part = [&](bool first) {
       return [&, first](const Eigen::Vector2d& px) {
-        if (!outsideBand(px)) return false;
         const auto f = kCamera.pixelToField(px, z);
+        if (!f) return false;
         const double ly = -std::sin(r.theta) * (f->x() - r.x) + std::cos(r.theta) * (f->y() - r.y) - tag.y;
-        return (ly < 0.011) == first;
+        return (ly < 0.008 || ly > 0.014) && (ly < 0.011) == first;
       };
     };
     for (const bool first : {true, false}) {
