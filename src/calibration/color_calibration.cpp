@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -266,6 +267,38 @@ std::string clippedSamplesWarning(const std::vector<ColorClass>& classes) {
          " are clipped in two channels: their colour under less light is unknown, so the table will "
          "not see them where the light is dimmer. Sample them also where they are not saturated (in "
          "less light), or lower the camera's exposure or gain.";
+}
+
+std::vector<ColorClass> patternColorsWithoutSamples(const std::vector<CalibrationImage>& images,
+                                                    const PatternSet& patterns) {
+  std::set<ColorClass> worn = {ColorClass::Blue, ColorClass::Yellow};
+  for (const auto& slots : patterns.ids) worn.insert(slots.begin(), slots.end());
+  for (const CalibrationImage& image : images) {
+    for (const auto& [color, polygons] : image.samples) {
+      if (!polygons.empty()) worn.erase(color);
+    }
+  }
+  return {worn.begin(), worn.end()};
+}
+
+std::string patternColorsWithoutSamplesWarning(const std::vector<ColorClass>& colors,
+                                               const PatternSet& patterns) {
+  if (colors.empty()) return {};
+  std::string names;
+  std::set<std::size_t> ids;  // the ids wearing one of `colors`
+  for (const ColorClass c : colors) {
+    names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
+    for (std::size_t id = 0; id < patterns.ids.size(); ++id) {
+      if (std::count(patterns.ids[id].begin(), patterns.ids[id].end(), c) > 0) ids.insert(id);
+    }
+  }
+  std::string worn_by;
+  for (const std::size_t id : ids) worn_by += (worn_by.empty() ? " (ids " : ", ") + std::to_string(id);
+  if (!worn_by.empty()) worn_by += ")";
+  return "no samples of " + names + ", which pattern " + patterns.name + " puts on robots" + worn_by +
+         ": the table cannot know these colours, so a robot wearing one is not seen or is read as "
+         "another id. Sample them on a frame that shows them, or ignore this "
+         "if no such robot plays.";
 }
 
 ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,

@@ -120,18 +120,29 @@ double distanceToLines(const Eigen::Vector2d& p, const FieldGeometry& field) {
   return d;
 }
 
+// Whether every marker outline of `r` is in the image (FieldRenderer::robotVisible).
+bool robotInView(const CameraModel& camera, const PatternSet& patterns, const RobotState& r) {
+  for (const Eigen::Vector3d& p : markerOutlinePoints(patterns, r.team, r.id, r.x, r.y, r.theta)) {
+    const auto px = camera.project(p);
+    if (!px || !camera.inImage(*px)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& camera,
                                 const FieldGeometry& field, const PatternSet& patterns,
                                 const SampleOptions& options) {
   ColorSamples samples;
-  const PolygonProjector projector(camera, options.image_margin);
+  const PolygonProjector projector(camera, options.image_margin), to_border(camera, 0.0);
   Polygon poly;
 
   for (const auto& r : scene.robots) {
     const double z_top = patterns.height(r.team);
     const auto markers = patterns.markers(r.team, r.id);
+    const PolygonProjector& marker_projector =
+        options.robots_in_view_to_border && robotInView(camera, patterns, r) ? to_border : projector;
     for (const auto& m : markers) {
       std::vector<Eigen::Vector3d> pts;
       MarkerShape shape = m.shape;
@@ -161,7 +172,7 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
         scale = 1.0;
       }
       for (const auto& q : outline(shape, scale)) pts.push_back(robotToField(r, q.x(), q.y(), z_top));
-      if (projector.project(pts, poly)) samples[m.color].push_back(poly);
+      if (marker_projector.project(pts, poly)) samples[m.color].push_back(poly);
     }
     double clearance = 0;
     const Eigen::Vector2d spot = clearestTopSpot(markers, patterns.robot_radius, clearance);

@@ -10,18 +10,21 @@
 //       --samples samples.yaml [--samples ...] --out table.svct [--preview preview.png]
 //       [--threshold-lab X] [--threshold-h DEG] [--bins H,S,V] [--v-margin N]
 //       [--generalize SIGMAS] [--spread L,AB] [--fallback SIGMAS] [--fallback-guard SIGMAS]
-//       [--light normalized|as-captured]
+//       [--light normalized|as-captured] [--patterns NAME|FILE]
 //
 // Images and samples files pair up in order; a single samples file applies to every image.
 // All images must have the same size (the illumination reference is per block).
 // Prints per class: sample and valid counts, mean Lab, mean H, thresholds, cells claimed by
 // its HSV body and held after the Bayes decisions, and the number of cells claimed by more
 // than one class. --preview writes the first image beside its colour-coded classification.
+// --patterns (two_tag, ssl, team_only or a pattern file) warns of the colours that pattern
+// puts on robots which no sample covers.
 // Exit status: 0 on success, 2 for bad arguments, unreadable/invalid inputs or an output that
 // cannot be written (with a message naming the problem).
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -32,6 +35,7 @@
 
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/common/exchange_formats.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/segmentation/color_table.h"
 #include "soccer_vision/segmentation/segmenter.h"
 #include "tool_command_line.h"
@@ -48,6 +52,7 @@ struct Options {
   sv::ColorTableParams params;
   sv::CalibrationLight light = sv::CalibrationLight::Normalized;
   std::vector<double> spread;  // --spread L,AB
+  std::string patterns;        // --patterns: warn of its colours without samples
 };
 
 void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& light) {
@@ -122,6 +127,9 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
   app.add_option("--light", light, "normalized (by the illumination reference) or as-captured")
       ->check(CLI::IsMember(std::vector<std::string>{"normalized", "as-captured"}))
       ->capture_default_str();
+  app.add_option(
+      "--patterns", o.patterns,
+      "marker patterns (two_tag, ssl, team_only or a file): warn of their colours without samples");
 }
 
 // Options that do not go together, bins and thresholds out of range: a message, or "".
@@ -249,6 +257,8 @@ int main(int argc, char** argv) {
   try {
     const std::vector<sv::CalibrationImage> inputs = loadInputs(o);
     checkSamplesSelectPixels(o, inputs);
+    const std::optional<sv::PatternSet> patterns =
+        o.patterns.empty() ? std::nullopt : std::optional(sv::patternSetByName(o.patterns));
     const sv::ColorTable table = sv::calibrateColorTable(inputs, o.params, o.light);
     table.save(o.out);
     std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(), inputs.front().bgr.cols,
@@ -256,6 +266,11 @@ int main(int argc, char** argv) {
     printStatistics(table);
     if (const std::string w = sv::clippedSamplesWarning(sv::classesSampledClipped(inputs)); !w.empty())
       std::printf("warning: %s\n", w.c_str());
+    if (patterns) {
+      const std::string w = sv::patternColorsWithoutSamplesWarning(
+          sv::patternColorsWithoutSamples(inputs, *patterns), *patterns);
+      if (!w.empty()) std::printf("warning: %s\n", w.c_str());
+    }
     std::printf("written: %s\n", o.out.c_str());
     if (!o.preview.empty()) writePreview(o.preview, table, inputs.front().bgr);
   } catch (const std::exception& e) {

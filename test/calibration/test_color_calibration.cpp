@@ -110,3 +110,31 @@ TEST(ColorCalibration, MarkersSampledOnlyClippedAreNamed) {
   samples[ColorClass::Yellow].push_back(inside(40, 4));
   EXPECT_TRUE(classesSampledClipped({{image, samples}}).empty());
 }
+
+// The colours a pattern puts on robots that no sample covers are named with the ids wearing
+// them (held-out seed 9075: purple unsampled, blue 1 read as blue 0), over all images.
+TEST(ColorCalibration, PatternColorsWithoutSamplesAreNamed) {
+  const cv::Mat3b image = fieldImage();
+  ColorSamples first, second;
+  first[ColorClass::Blue] = {inside(4, 4)};
+  first[ColorClass::Yellow] = {inside(40, 4)};
+  first[ColorClass::Pink] = {inside(4, 30)};
+  first[ColorClass::Orange] = {inside(4, 30)};
+  second[ColorClass::Green] = {inside(4, 30)};
+  second[ColorClass::SkyBlue] = {inside(4, 30)};
+  second[ColorClass::Red] = {};  // a class listed without a polygon is not sampled
+  const PatternSet two_tag = PatternSet::twoTag();
+  const std::vector<ColorClass> missing =
+      patternColorsWithoutSamples({{image, first}, {image, second}}, two_tag);
+  EXPECT_EQ(missing, (std::vector<ColorClass>{ColorClass::Purple, ColorClass::Red}));
+  const std::string warning = patternColorsWithoutSamplesWarning(missing, two_tag);
+  EXPECT_NE(warning.find("purple, red"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("(ids 1, 4)"), std::string::npos) << warning;
+
+  // The SSL pattern wears only pink and green beside the team colours; team_only neither.
+  EXPECT_TRUE(patternColorsWithoutSamples({{image, first}, {image, second}}, PatternSet::ssl()).empty());
+  first.erase(ColorClass::Yellow);
+  EXPECT_EQ(patternColorsWithoutSamples({{image, first}}, PatternSet::teamOnly()),
+            std::vector<ColorClass>{ColorClass::Yellow});
+  EXPECT_EQ(patternColorsWithoutSamplesWarning({}, two_tag), "");
+}

@@ -284,9 +284,10 @@ sv::CalibrationImage calibrationFrame(const Options& o,
 
 // The colour table of one camera: given, or calibrated like calibrate_colors does from
 // samples on frames of the bag (their quad colours for Bayer: what the classifier reads),
-// with the colours of --more-samples merged in as the calibration UI merges a second frame.
+// with the colours of --more-samples merged in as the calibration UI merges a second frame,
+// and calibrate_colors' warnings (clipped samples, the pattern's colours without samples).
 std::shared_ptr<const sv::SegmentationModel> colorModel(
-    const Options& o, const std::map<std::size_t, std::string>& samples,
+    const Options& o, const sv::PatternSet& patterns, const std::map<std::size_t, std::string>& samples,
     const std::map<std::size_t, std::string>& more, const std::map<std::size_t, sv::BagFrames::Image>& frames,
     std::size_t index, int camera_id) {
   if (!o.colors.empty()) {
@@ -323,8 +324,13 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
     std::printf("camera %d: and %s on frame %zu of the bag (--more-samples)\n", camera_id,
                 sv::sampledClassNames(images.back().samples).c_str(), frame);
   }
-  return sv::SegmentationModel::fromTable(
-      std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images)));
+  auto table = std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images));
+  for (const std::string& w : {sv::clippedSamplesWarning(sv::classesSampledClipped(images)),
+                               sv::patternColorsWithoutSamplesWarning(
+                                   sv::patternColorsWithoutSamples(images, patterns), patterns)}) {
+    if (!w.empty()) std::printf("camera %d: warning: %s\n", camera_id, w.c_str());
+  }
+  return sv::SegmentationModel::fromTable(std::move(table));
 }
 
 // The bag's image as BGR at full resolution (a Bayer image demosaiced), as a camera shows it.
@@ -684,7 +690,7 @@ int evaluateBag(const Options& o) {
     }
     pc.layout = frames.at(0).layout;
     pc.model = cameraModel(o, *cameras[i], i, frames.at(0), setup.field);
-    pc.segmentation = colorModel(o, samples, more, frames, i, pc.id);
+    pc.segmentation = colorModel(o, setup.patterns, samples, more, frames, i, pc.id);
     setup.cameras.push_back(std::move(pc));
   }
   const sv::TruthTimeline truth(loadTruth(o, &bag));
