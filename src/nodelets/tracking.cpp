@@ -210,6 +210,7 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   tracker_params_.min_confidence = config.min_confidence;
   tracker_params_.min_start_confidence = config.min_start_confidence;
   tracker_params_.misread_distance = config.misread_distance;
+  tracker_params_.misread_established_reads = config.misread_established_reads;
   tracker_params_.time.max_forward_jump = config.max_forward_jump;
   tracker_params_.time.late_tolerance = config.late_tolerance;
   tracker_params_.measurement_offset = config.measurement_offset;

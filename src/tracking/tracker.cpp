@@ -51,6 +51,8 @@ void validate(const TrackerParams& p) {
   if (!(p.misread_distance >= 0 && p.misread_distance <= 0.2))
     throw std::invalid_argument("tracker: misread_distance must be in [0, 0.2] m");
   positive(p.misread_recent, "misread_recent");
+  if (p.misread_established_reads < 0)
+    throw std::invalid_argument("tracker: misread_established_reads must be >= 0 (0 = off)");
   if (!(p.max_coast_uncertainty >= 0) || !std::isfinite(p.max_coast_uncertainty)) {
     throw std::invalid_argument("tracker: max_coast_uncertainty must be >= 0 (0 = off)");
   }
@@ -159,7 +161,7 @@ RobotMeasurement Tracker::compensated(const RobotTrack& track, const RobotDetect
 }
 
 void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d, const CameraFrameDetections& frame,
-                           double lag, TrackerUpdateReport& report) {
+                           double lag, TrackerUpdateReport& report, bool own_read) {
   const GateResult gate = track.filter.update(compensated(track, d, lag));
   if (gate == GateResult::Rejected) {
     ++report.robot_outliers;
@@ -183,6 +185,10 @@ void Tracker::measureRobot(RobotTrack& track, const RobotDetection& d, const Cam
   track.camera_id = frame.camera_id;
   track.confidence += p_.confidence_smoothing * (clamp01(d.confidence) - track.confidence);
   ++track.hits;
+  if (own_read) {
+    ++track.own_reads;
+    track.last_own_read = frame.stamp;
+  }
   ++report.robots_measured;
   report.measured_track_ids.push_back(track.track_id);
 }
@@ -195,7 +201,8 @@ void Tracker::startRobot(const RobotDetection& d, const CameraFrameDetections& f
   }
   RobotMeasurement m{d.x, d.y, d.theta, d.heading_valid};
   robots_.push_back(RobotTrack{next_track_id_++, d.team, d.id, RobotFilter(p_.robot, m), frame.stamp,
-                               timeline_.now(), frame.camera_id, clamp01(d.confidence), d.heading_valid, 1});
+                               timeline_.now(), frame.camera_id, clamp01(d.confidence), d.heading_valid, 1, 1,
+                               frame.stamp});
   ++report.robots_created;
   report.measured_track_ids.push_back(robots_.back().track_id);
 }
@@ -218,12 +225,19 @@ std::vector<RobotDetection> Tracker::misreadIdentities(const CameraFrameDetectio
       return t.team == d.team && t.id == d.id && recent(t) && onTrack(t, d);
     });
   };
+  // A track read as itself often and lately: another id's read on it is a misread however
+  // sure (misread_established_reads).
+  auto established = [&](const RobotTrack& t) {
+    return p_.misread_established_reads > 0 && t.own_reads >= p_.misread_established_reads &&
+           frame.stamp - t.last_own_read <= p_.misread_recent;
+  };
   // Takes from by_identity the detection of another id lying on track t, if any.
   auto takeMisread = [&](const RobotTrack& t) {
     for (auto& [identity, detections] : by_identity) {
       if (identity.first != static_cast<int>(t.team)) continue;
       for (auto it = detections.begin(); it != detections.end(); ++it) {
-        if ((*it)->confidence >= t.confidence || !onTrack(t, **it) || ownTrackThere(**it)) continue;
+        if (!onTrack(t, **it) || ownTrackThere(**it)) continue;
+        if ((*it)->confidence >= t.confidence && !established(t)) continue;
         misread.push_back(**it);
         misread.back().id = t.id;
         detections.erase(it);
@@ -288,7 +302,9 @@ void Tracker::updateRobots(const CameraFrameDetections& frame, double lag, Track
         best = d;
       }
     }
-    measureRobot(*track, *best, frame, lag, report);
+    const bool own_read =
+        std::none_of(misread.begin(), misread.end(), [&](const RobotDetection& m) { return &m == best; });
+    measureRobot(*track, *best, frame, lag, report, own_read);
   }
 
   for (int team = 0; team < 2; ++team) {

@@ -535,10 +535,12 @@ TEST(Tracker, AMisreadIdOnATrackedRobotIsThatRobot) {
   // Yellow 0 is tracked (confidence 0.9); one frame reads its pink as red: yellow 4 at 0.3,
   // 3 mm from it. Two robots' centres cannot be that close, so it is yellow 0, measured;
   // no yellow 4 appears. A sure read (0.95), or one 0.2 m away (another robot), is not a
-  // misread; nor is anything with misread_distance 0.
+  // misread; nor is anything with misread_distance 0. (The confidence rule alone: a sure read
+  // on an established track is ASureMisreadOnAnEstablishedTrackIsThatRobot's.)
   for (const double misread_distance : {0.05, 0.0}) {
     TrackerParams p;
     p.misread_distance = misread_distance;
+    p.misread_established_reads = 0;
     Tracker tracker(p);
     int k = 0;
     for (; k < 10; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Yellow, 0, 1, 1)}));
@@ -591,6 +593,47 @@ TEST(Tracker, AMisreadIdOnATrackedRobotIsThatRobot) {
   bad.misread_distance = 0.05;
   bad.misread_recent = 0;
   EXPECT_THROW(validate(bad), std::invalid_argument);
+  bad.misread_recent = 0.1;
+  bad.misread_established_reads = -1;
+  EXPECT_THROW(validate(bad), std::invalid_argument);
+}
+
+TEST(Tracker, ASureMisreadOnAnEstablishedTrackIsThatRobot) {
+  // Held-out seed 9075's rand_flicker_jpeg: blue 1, read as itself at 0.74-0.88 under
+  // flicker, read once as blue 0 at 0.95, 2 mm off. Read as itself in 12 frames, the track
+  // takes that read as its robot's; read as itself in 3, it does not (blue 0 begins).
+  for (const int own_reads : {12, 3}) {
+    Tracker tracker;
+    int k = 0;
+    for (; k < own_reads; ++k) {
+      RobotDetection right = robot(Team::Blue, 1, 1, 1);
+      right.confidence = 0.8;
+      tracker.update(frame(kT0 + k * kDt, 0, {right}));
+    }
+    RobotDetection wrong = robot(Team::Blue, 0, 1.002, 1);
+    wrong.confidence = 0.95;
+    const TrackerUpdateReport report = tracker.update(frame(kT0 + k * kDt, 0, {wrong}));
+    const TrackerOutput out = tracker.output(kT0 + k * kDt);
+    const bool established = own_reads >= TrackerParams{}.misread_established_reads;
+    EXPECT_EQ(report.misread_ids, established ? 1 : 0) << own_reads;
+    ASSERT_TRUE(find(out, Team::Blue, 1));
+    EXPECT_EQ(find(out, Team::Blue, 1)->visible, established) << own_reads;
+    EXPECT_EQ(find(out, Team::Blue, 0) != nullptr, !established) << own_reads;
+  }
+  // Read only as blue 0 from then on: the track's own read grows old, and within
+  // misread_recent (0.1 s) blue 0 begins its own track, as a robot first read wrong.
+  Tracker tracker;
+  int k = 0;
+  for (; k < 12; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Blue, 1, 1, 1)}));
+  const int last_own = k - 1;
+  RobotDetection other = robot(Team::Blue, 0, 1.002, 1);
+  other.confidence = 0.95;
+  while (!find(tracker.output(kT0 + (k - 1) * kDt), Team::Blue, 0) && k < 40) {
+    tracker.update(frame(kT0 + k * kDt, 0, {other}));
+    ++k;
+  }
+  EXPECT_LE((k - 1 - last_own) * kDt, TrackerParams{}.misread_recent + 1.5 * kDt);
+  EXPECT_GT((k - 1 - last_own) * kDt, TrackerParams{}.misread_recent - kDt);
 }
 
 // A ball track begun outside the playing area is output once measured twice: a single
