@@ -330,19 +330,21 @@ void appendClippedTwicePath(const SamplePixel& sample, double brightest, std::ve
   }
 }
 
+// Whether a sample shows its print's hue: not clipped twice, not a cells-only one.
+bool showsItsHue(const SamplePixel& p) { return !p.cells_only && !clippedTwice(p.bgr); }
+
 // Of a robot marker class with at least kMinHueSamples samples that show their hue, the
 // validity centre is theirs; the samples clipped twice are not valid, and are returned in
 // `body_only`: they claim their own cells (the same clipped colour under the same lamp)
 // without pulling the Gaussian to a hue the print does not have. Otherwise all samples
 // decide, as the paper's.
-constexpr std::size_t kMinHueSamples = 8;
 
 SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixels,
                           const std::vector<Lab>& lab, const std::vector<Hsv>& hsv, const ClassStatistics& st,
                           std::vector<Hsv>& body_only) {
   std::vector<std::size_t> hue_samples;
   for (std::size_t i = 0; i < pixels.size(); ++i) {
-    if (!clippedTwice(pixels[i].bgr)) hue_samples.push_back(i);
+    if (showsItsHue(pixels[i])) hue_samples.push_back(i);
   }
   if (!isRobotMarkerColor(color) || hue_samples.size() == pixels.size() ||
       hue_samples.size() < kMinHueSamples)
@@ -357,7 +359,7 @@ SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixe
   SampleCentre centre{sub.lab, std::vector<bool>(pixels.size(), false)};
   for (std::size_t k = 0; k < hue_samples.size(); ++k) centre.valid[hue_samples[k]] = sub.valid[k];
   for (std::size_t i = 0; i < pixels.size(); ++i) {
-    if (clippedTwice(pixels[i].bgr)) body_only.push_back(hsv[i]);
+    if (!showsItsHue(pixels[i])) body_only.push_back(hsv[i]);
   }
   return centre;
 }
@@ -374,7 +376,7 @@ std::vector<std::vector<bool>> otherPrints(const std::vector<SamplePixel>& pixel
                                            const std::set<std::uint32_t>& confused) {
   std::map<std::uint32_t, std::vector<std::size_t>> by_marker;
   for (std::size_t i = 0; i < pixels.size(); ++i) {
-    if (pixels[i].marker != 0 && !clippedTwice(pixels[i].bgr)) by_marker[pixels[i].marker].push_back(i);
+    if (pixels[i].marker != 0 && showsItsHue(pixels[i])) by_marker[pixels[i].marker].push_back(i);
   }
   std::vector<std::vector<bool>> prints;
   for (const auto& [marker, members] : by_marker) {
@@ -977,7 +979,7 @@ Confusions confusedMarkers(const ColorTable& table, const ClassSamplePixels& sam
     };
     std::map<std::uint32_t, Count> counts;
     for (const SamplePixel& p : pixels) {
-      if (p.marker == 0 || clippedTwice(p.bgr)) continue;
+      if (p.marker == 0 || !showsItsHue(p)) continue;
       Count& n = counts[p.marker];
       ++n.pixels;
       forEachSampleCell(table, color, p, factors, [&](std::size_t i) {

@@ -306,6 +306,60 @@ TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
               100 * total[0].markers(), 100 * total[1].markers());
 }
 
+namespace {
+
+struct ClippedOutcome {
+  Accuracy colour, opened;  // `colour`'s interiors; every sampled colour's after the opening
+};
+
+// rand_uneven_lamps at `seed`, its table calibrated on frame `calibration_frame` as
+// make_scenario samples it (2 px inside each object), `colour` sampled clipped twice there;
+// classified on every `every`-th frame after it up to `last`.
+ClippedOutcome clippedColourAfter(int seed, int calibration_frame, ColorClass colour, int last, int every) {
+  ScenarioConfig scenario = preset("rand_uneven_lamps");
+  scenario.seed = seed;
+  const FieldGeometry field;
+  const PatternSet patterns = patternSetByName(scenario.pattern);
+  const CameraModel camera = scenarioCamera(field, 0, scenario);
+  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
+  const FieldRenderer renderer(camera, field, patterns, scenario);
+  for (int i = 0; i < calibration_frame; ++i) sim.step(1.0 / scenario.fps);
+  RenderedFrame frame;
+  renderer.render(sim.state(), calibration_frame, frame);
+  const ColorSamples samples =
+      calibrationSamples(extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)), camera, field,
+                         patterns, SampleOptions::drawnByUser(2));
+  const std::vector<CalibrationImage> images{{frame.image, samples}};
+  EXPECT_EQ(classesSampledClipped(images), std::vector<ColorClass>{colour});
+  const auto model =
+      SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateColorTable(images)));
+  std::set<ColorClass> sampled;
+  for (const auto& [c, polygons] : samples) {
+    if (!polygons.empty()) sampled.insert(c);
+  }
+  ClippedOutcome out;
+  for (int i = calibration_frame + 1; i <= last; ++i) {
+    sim.step(1.0 / scenario.fps);
+    if (i % every) continue;
+    renderer.render(sim.state(), i, frame);
+    const cv::Mat1b truth =
+        renderer.renderLabels(extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)));
+    const cv::Mat1b labels = classifyAll(*model, frame.image, PixelLayout::Bgr, SegmentationParams{});
+    countMarkerInteriors(truth, labels, out.colour, {colour});
+    const RegionParams q = labelParams(RegionParams{}, labels.cols);
+    countMarkerInteriors(truth, openedMarkers(labels, q.morph_kernel, q.min_area, scanGridStride(q)),
+                         out.opened, sampled);
+  }
+  std::printf(
+      "[ rand_uneven_lamps %d ] %s interiors %.3f %% of %ld; after the opening: interiors %.3f %%, "
+      "background -> marker %.5f %%\n",
+      seed, std::string(colorClassName(colour)).c_str(), 100 * out.colour.markers(),
+      static_cast<long>(out.colour.interior), 100 * out.opened.markers(), 100 * out.opened.falsePositives());
+  return out;
+}
+
+}  // namespace
+
 // Held-out seed 9053 of rand_uneven_lamps (spent): the calibration frame (71, the first
 // showing every colour) had its yellow tags under the brightest lamp only, clipped in two
 // channels; under the dimmer lamps the print reads 42-44°, and the yellow robots there went
@@ -315,50 +369,21 @@ TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
 // also claims, single noisy pixels of the floor beyond the carpet (0.36 -> 0.62 % of the
 // background), the opening removes, as the regions see the labels.
 TEST(OneFrameTable, AColourSampledOnlyClippedIsSeenUnderDimmerLamps) {
-  ScenarioConfig scenario = preset("rand_uneven_lamps");
-  scenario.seed = 9053;
-  const FieldGeometry field;
-  const PatternSet patterns = patternSetByName(scenario.pattern);
-  const CameraModel camera = scenarioCamera(field, 0, scenario);
-  GameSimulator sim(scenario, field, patterns.maxRobotsPerTeam());
-  const FieldRenderer renderer(camera, field, patterns, scenario);
-  const int calibration_frame = 71;
-  for (int i = 0; i < calibration_frame; ++i) sim.step(1.0 / scenario.fps);
-  RenderedFrame frame;
-  renderer.render(sim.state(), calibration_frame, frame);
-  const ColorSamples samples =
-      calibrationSamples(extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)), camera, field,
-                         patterns, SampleOptions::drawnByUser(2));
-  const std::vector<CalibrationImage> images{{frame.image, samples}};
-  ASSERT_EQ(classesSampledClipped(images), std::vector<ColorClass>{ColorClass::Yellow});
-  const auto model =
-      SegmentationModel::fromTable(std::make_shared<const ColorTable>(calibrateColorTable(images)));
-  std::set<ColorClass> sampled;
-  for (const auto& [c, polygons] : samples) {
-    if (!polygons.empty()) sampled.insert(c);
-  }
+  const ClippedOutcome o = clippedColourAfter(9053, 71, ColorClass::Yellow, 220, 15);
+  EXPECT_GE(o.colour.markers(), 0.98);
+  EXPECT_GE(o.opened.markers(), 0.99);
+  EXPECT_LE(o.opened.falsePositives(), 1e-4);
+}
 
-  Accuracy yellow, opened;
-  for (int i = calibration_frame + 1; i <= 220; ++i) {
-    sim.step(1.0 / scenario.fps);
-    if (i % 15) continue;
-    renderer.render(sim.state(), i, frame);
-    const cv::Mat1b truth =
-        renderer.renderLabels(extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor)));
-    const cv::Mat1b labels = classifyAll(*model, frame.image, PixelLayout::Bgr, SegmentationParams{});
-    countMarkerInteriors(truth, labels, yellow, {ColorClass::Yellow});
-    const RegionParams q = labelParams(RegionParams{}, labels.cols);
-    countMarkerInteriors(truth, openedMarkers(labels, q.morph_kernel, q.min_area, scanGridStride(q)), opened,
-                         sampled);
-  }
-  std::printf(
-      "[ rand_uneven_lamps 9053 ] yellow interiors %.3f %% of %ld; after the opening: interiors %.3f %%, "
-      "background -> marker %.5f %%\n",
-      100 * yellow.markers(), static_cast<long>(yellow.interior), 100 * opened.markers(),
-      100 * opened.falsePositives());
-  EXPECT_GE(yellow.markers(), 0.98);
-  EXPECT_GE(opened.markers(), 0.99);
-  EXPECT_LE(opened.falsePositives(), 1e-4);
+// Held-out seed 9074 of rand_uneven_lamps (spent): the calibration frame's yellow tags
+// clipped twice under the brightest lamp, their rims lent the class its hue at the clipped
+// samples' brightness; the print is at least that bright, and its rim's colours claim their
+// cells at the ceiling too (calibrateColorTable). Yellow 3, under a lamp between, went
+// unidentified in 4 of the first 20 frames before (measured 99.70 %; 100 % with them).
+TEST(OneFrameTable, AClippedPrintsRimClaimsItsCellsAtTheCeiling) {
+  const ClippedOutcome o = clippedColourAfter(9074, 0, ColorClass::Yellow, 40, 2);
+  EXPECT_GE(o.colour.markers(), 0.99);  // 78.1 % without the ceiling
+  EXPECT_LE(o.opened.falsePositives(), 1e-4);
 }
 
 namespace {

@@ -49,6 +49,9 @@ struct SamplePixel {
   cv::Vec3b bgr;
   std::uint8_t v = 0;
   std::uint32_t marker = 0;
+  // Claims its cells but shows nothing of the class's colour otherwise (like a sample clipped
+  // twice): no part of the Gaussian, never valid.
+  bool cells_only = false;
 };
 using ClassSamplePixels = std::map<ColorClass, std::vector<SamplePixel>>;
 
@@ -64,6 +67,10 @@ ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples)
 // sample tells nothing of the ratio between them, so nothing of its hue (a yellow under a
 // bright lamp reads (69, 255, 255), hue 60°, where its print reads 47°).
 bool clippedTwice(const cv::Vec3b& bgr);
+// The samples showing their hue (not clipped twice) a robot marker class needs for its
+// validity centre and Gaussian to be theirs alone; its samples clipped twice then only claim
+// their own cells.
+constexpr std::size_t kMinHueSamples = 8;
 // Whether one channel or more is at that ceiling.
 bool clippedAnyChannel(const cv::Vec3b& bgr);
 
