@@ -280,20 +280,18 @@ std::string clippedSamplesWarning(const std::vector<ColorClass>& classes) {
          "less light), or lower the camera's exposure or gain.";
 }
 
-std::vector<ColorClass> patternColorsWithoutSamples(const std::vector<CalibrationImage>& images,
-                                                    const PatternSet& patterns) {
+std::vector<ColorClass> patternColorsWithoutCells(const PatternSet& patterns, const ColorTable& table) {
   std::set<ColorClass> worn = {ColorClass::Blue, ColorClass::Yellow};
   for (const auto& slots : patterns.ids) worn.insert(slots.begin(), slots.end());
-  for (const CalibrationImage& image : images) {
-    for (const auto& [color, polygons] : image.samples) {
-      if (!polygons.empty()) worn.erase(color);
-    }
+  std::vector<ColorClass> out;
+  for (const ColorClass c : worn) {
+    if (table.statistics().classes[static_cast<int>(c)].cells_assigned == 0) out.push_back(c);
   }
-  return {worn.begin(), worn.end()};
+  return out;
 }
 
-std::string patternColorsWithoutSamplesWarning(const std::vector<ColorClass>& colors,
-                                               const PatternSet& patterns) {
+std::string patternColorsWithoutCellsWarning(const std::vector<ColorClass>& colors,
+                                             const PatternSet& patterns) {
   if (colors.empty()) return {};
   std::string names;
   std::set<std::size_t> ids;  // the ids wearing one of `colors`
@@ -306,10 +304,9 @@ std::string patternColorsWithoutSamplesWarning(const std::vector<ColorClass>& co
   std::string worn_by;
   for (const std::size_t id : ids) worn_by += (worn_by.empty() ? " (ids " : ", ") + std::to_string(id);
   if (!worn_by.empty()) worn_by += ")";
-  return "no samples of " + names + ", which pattern " + patterns.name + " puts on robots" + worn_by +
-         ": the table cannot know these colours, so a robot wearing one is not seen or is read as "
-         "another id. Sample them on a frame that shows them, or ignore this "
-         "if no such robot plays.";
+  return "the table has no " + names + ", which pattern " + patterns.name + " puts on robots" + worn_by +
+         " (not sampled, or its cells went to other colours): a robot wearing one is not seen or is read "
+         "as another id. Sample them on a frame that shows them, or ignore this if no such robot plays.";
 }
 
 ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,

@@ -44,6 +44,7 @@
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/common/exchange_formats.h"
 #include "soccer_vision/common/path_inside_directory.h"
+#include "soccer_vision/common/robot_pattern.h"
 #include "soccer_vision/ros/blob_conversions.h"
 #include "soccer_vision/ros/image_message.h"
 #include "soccer_vision/segmentation/color_table.h"
@@ -152,6 +153,8 @@ class SegmentationNodelet : public nodelet::Nodelet {
   double window_max_age_ = 0.5;
   bool report_data_pointer_ = false;
   std::string calibration_save_directory_;  // "" = the color_table's directory
+  // The marker pattern: ~calibrate warns of its colours the new table has no cell for.
+  std::optional<PatternSet> pattern_;
 
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
@@ -282,6 +285,13 @@ void SegmentationNodelet::onInit() {
   pnh.param("search_window_max_age", window_max_age_, 0.5);
   pnh.param("debug_report_data_pointer", report_data_pointer_, false);
   pnh.param("calibration_save_directory", calibration_save_directory_, std::string());
+  std::string pattern;
+  pnh.param("pattern", pattern, std::string("two_tag"));
+  try {
+    if (!pattern.empty()) pattern_ = patternSetByName(pattern);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("pattern: %s; ~calibrate does not check the pattern's colours", e.what());
+  }
   int queue_size = 2;
   pnh.param("queue_size", queue_size, 2);
   queue_size = std::max(1, queue_size);
@@ -797,7 +807,11 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     last_load_failed_ = false;  // a failed color_table file is not retried over this table
     res.success = true;
     res.message = summarizeTable(*table);
-    if (const std::string w = clippedSamplesWarning(classesSampledClipped(images)); !w.empty()) {
+    const std::string lacking =
+        pattern_ ? patternColorsWithoutCellsWarning(patternColorsWithoutCells(*pattern_, *table), *pattern_)
+                 : "";
+    for (const std::string& w : {clippedSamplesWarning(classesSampledClipped(images)), lacking}) {
+      if (w.empty()) continue;
       res.message += "; warning: " + w;
       NODELET_WARN("~calibrate: %s", w.c_str());
     }

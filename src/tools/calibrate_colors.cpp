@@ -18,7 +18,7 @@
 // its HSV body and held after the Bayes decisions, and the number of cells claimed by more
 // than one class. --preview writes the first image beside its colour-coded classification.
 // --patterns (two_tag, ssl, team_only or a pattern file) warns of the colours that pattern
-// puts on robots which no sample covers.
+// puts on robots which the table has no cell for.
 // Exit status: 0 on success, 2 for bad arguments, unreadable/invalid inputs or an output that
 // cannot be written (with a message naming the problem).
 #include <cstdio>
@@ -52,7 +52,7 @@ struct Options {
   sv::ColorTableParams params;
   sv::CalibrationLight light = sv::CalibrationLight::Normalized;
   std::vector<double> spread;  // --spread L,AB
-  std::string patterns;        // --patterns: warn of its colours without samples
+  std::string patterns;        // --patterns: warn of its colours the table has no cell for
 };
 
 void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& light) {
@@ -129,7 +129,7 @@ void addOptions(CLI::App& app, Options& o, std::vector<int>& bins, std::string& 
       ->capture_default_str();
   app.add_option(
       "--patterns", o.patterns,
-      "marker patterns (two_tag, ssl, team_only or a file): warn of their colours without samples");
+      "marker patterns (two_tag, ssl, team_only or a file): warn of their colours the table lacks");
 }
 
 // Options that do not go together, bins and thresholds out of range: a message, or "".
@@ -267,8 +267,8 @@ int main(int argc, char** argv) {
     if (const std::string w = sv::clippedSamplesWarning(sv::classesSampledClipped(inputs)); !w.empty())
       std::printf("warning: %s\n", w.c_str());
     if (patterns) {
-      const std::string w = sv::patternColorsWithoutSamplesWarning(
-          sv::patternColorsWithoutSamples(inputs, *patterns), *patterns);
+      const std::string w =
+          sv::patternColorsWithoutCellsWarning(sv::patternColorsWithoutCells(*patterns, table), *patterns);
       if (!w.empty()) std::printf("warning: %s\n", w.c_str());
     }
     std::printf("written: %s\n", o.out.c_str());

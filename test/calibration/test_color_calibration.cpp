@@ -111,30 +111,34 @@ TEST(ColorCalibration, MarkersSampledOnlyClippedAreNamed) {
   EXPECT_TRUE(classesSampledClipped({{image, samples}}).empty());
 }
 
-// The colours a pattern puts on robots that no sample covers are named with the ids wearing
-// them (held-out seed 9075: purple unsampled, blue 1 read as blue 0), over all images.
-TEST(ColorCalibration, PatternColorsWithoutSamplesAreNamed) {
-  const cv::Mat3b image = fieldImage();
-  ColorSamples first, second;
-  first[ColorClass::Blue] = {inside(4, 4)};
-  first[ColorClass::Yellow] = {inside(40, 4)};
-  first[ColorClass::Pink] = {inside(4, 30)};
-  first[ColorClass::Orange] = {inside(4, 30)};
-  second[ColorClass::Green] = {inside(4, 30)};
-  second[ColorClass::SkyBlue] = {inside(4, 30)};
-  second[ColorClass::Red] = {};  // a class listed without a polygon is not sampled
+// The colours a pattern puts on robots that the table has no cell for are named with the ids
+// wearing them (held-out seed 9075: purple unsampled, blue 1 read as blue 0): here blue,
+// yellow, pink and sky blue are sampled, on separate patches.
+TEST(ColorCalibration, PatternColorsTheTableLacksAreNamed) {
+  cv::Mat3b image = fieldImage();
+  image(cv::Rect(4, 4, 12, 6)).setTo(cv::Vec3b(200, 80, 30));     // blue
+  image(cv::Rect(40, 4, 12, 6)).setTo(cv::Vec3b(30, 220, 230));   // yellow
+  image(cv::Rect(4, 30, 12, 6)).setTo(cv::Vec3b(180, 80, 240));   // pink
+  image(cv::Rect(40, 30, 12, 6)).setTo(cv::Vec3b(230, 200, 60));  // sky blue
+  ColorSamples samples;
+  samples[ColorClass::Blue] = {inside(4, 4)};
+  samples[ColorClass::Yellow] = {inside(40, 4)};
+  samples[ColorClass::Pink] = {inside(4, 30)};
+  samples[ColorClass::SkyBlue] = {inside(40, 30)};
+  samples[ColorClass::Carpet] = {{{20.5, 14.5}, {34.5, 14.5}, {34.5, 24.5}, {20.5, 24.5}}};
+  const ColorTable table = calibrateColorTable({{image, samples}});
   const PatternSet two_tag = PatternSet::twoTag();
-  const std::vector<ColorClass> missing =
-      patternColorsWithoutSamples({{image, first}, {image, second}}, two_tag);
-  EXPECT_EQ(missing, (std::vector<ColorClass>{ColorClass::Purple, ColorClass::Red}));
-  const std::string warning = patternColorsWithoutSamplesWarning(missing, two_tag);
-  EXPECT_NE(warning.find("purple, red"), std::string::npos) << warning;
-  EXPECT_NE(warning.find("(ids 1, 4)"), std::string::npos) << warning;
+  const std::vector<ColorClass> missing = patternColorsWithoutCells(two_tag, table);
+  EXPECT_EQ(missing, (std::vector<ColorClass>{ColorClass::Purple, ColorClass::Green, ColorClass::Red}));
+  const std::string warning = patternColorsWithoutCellsWarning(missing, two_tag);
+  EXPECT_NE(warning.find("purple, green, red"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("(ids 1, 3, 4)"), std::string::npos) << warning;
+  EXPECT_EQ(patternColorsWithoutCellsWarning({}, two_tag), "");
 
-  // The SSL pattern wears only pink and green beside the team colours; team_only neither.
-  EXPECT_TRUE(patternColorsWithoutSamples({{image, first}, {image, second}}, PatternSet::ssl()).empty());
-  first.erase(ColorClass::Yellow);
-  EXPECT_EQ(patternColorsWithoutSamples({{image, first}}, PatternSet::teamOnly()),
+  // The SSL pattern wears pink and green beside the team colours; team_only only those.
+  EXPECT_EQ(patternColorsWithoutCells(PatternSet::ssl(), table), std::vector<ColorClass>{ColorClass::Green});
+  EXPECT_TRUE(patternColorsWithoutCells(PatternSet::teamOnly(), table).empty());
+  samples.erase(ColorClass::Yellow);
+  EXPECT_EQ(patternColorsWithoutCells(PatternSet::teamOnly(), calibrateColorTable({{image, samples}})),
             std::vector<ColorClass>{ColorClass::Yellow});
-  EXPECT_EQ(patternColorsWithoutSamplesWarning({}, two_tag), "");
 }

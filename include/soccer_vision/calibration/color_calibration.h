@@ -63,16 +63,17 @@ std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const C
 std::vector<ColorClass> classesSampledClipped(const std::vector<CalibrationImage>& images);
 // The warning for them, one text for calibrate_colors and ~calibrate; empty for none.
 std::string clippedSamplesWarning(const std::vector<ColorClass>& classes);
-// The colours `patterns` puts on robots (both teams' and every id colour) that no image's
-// samples cover. The table cannot know such a colour: a robot wearing it is not seen, or its
-// marker falls to the nearest sampled class and the robot is read as another id (held-out
-// seed 9075, rand_even_static: a purple dot never sampled read pink, blue 1 output as blue 0
-// in every frame). The pattern's colours are the user's to check, not the table's.
-std::vector<ColorClass> patternColorsWithoutSamples(const std::vector<CalibrationImage>& images,
-                                                    const PatternSet& patterns);
-// The warning for them, one text for calibrate_colors and evaluate; empty for none.
-std::string patternColorsWithoutSamplesWarning(const std::vector<ColorClass>& colors,
-                                               const PatternSet& patterns);
+// The colours `patterns` puts on robots (both teams' and every id colour) that `table` has
+// no cell for: no sample covered them, or the Bayes decisions gave all their cells away. The
+// table cannot see such a colour: a robot wearing it is not seen, or its marker falls to the
+// nearest class and the robot is read as another id (held-out seed 9075, rand_even_static: a
+// purple dot never sampled read pink, blue 1 output as blue 0 in every frame). The
+// pattern's colours are the user's to check, not the table's.
+std::vector<ColorClass> patternColorsWithoutCells(const PatternSet& patterns, const ColorTable& table);
+// The warning for them, one text for calibrate_colors, evaluate and ~calibrate; empty for none.
+std::string patternColorsWithoutCellsWarning(const std::vector<ColorClass>& colors,
+                                             const PatternSet& patterns);
+
 // `fresh`, built from `samples` with paramsBesideKeptClasses, with every class `samples`
 // has no polygon for taken from `previous` (ColorTable::withClassesFrom): a user who paints
 // a few colours anew keeps the others instead of a table that no longer sees them. Throws

@@ -325,9 +325,9 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
                 sv::sampledClassNames(images.back().samples).c_str(), frame);
   }
   auto table = std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images));
-  for (const std::string& w : {sv::clippedSamplesWarning(sv::classesSampledClipped(images)),
-                               sv::patternColorsWithoutSamplesWarning(
-                                   sv::patternColorsWithoutSamples(images, patterns), patterns)}) {
+  for (const std::string& w :
+       {sv::clippedSamplesWarning(sv::classesSampledClipped(images)),
+        sv::patternColorsWithoutCellsWarning(sv::patternColorsWithoutCells(patterns, *table), patterns)}) {
     if (!w.empty()) std::printf("camera %d: warning: %s\n", camera_id, w.c_str());
   }
   return sv::SegmentationModel::fromTable(std::move(table));
