@@ -334,11 +334,10 @@ void appendClippedTwicePath(const SamplePixel& sample, double brightest, std::ve
 bool showsItsHue(const SamplePixel& p) { return !p.cells_only && !clippedTwice(p.bgr); }
 
 // Of a robot marker class with at least kMinHueSamples samples that show their hue, the
-// validity centre is theirs; the samples clipped twice are not valid, and are returned in
-// `body_only`: they claim their own cells (the same clipped colour under the same lamp)
-// without pulling the Gaussian to a hue the print does not have. Otherwise all samples
-// decide, as the paper's.
-
+// validity centre is theirs; the samples clipped twice (and cells-only ones) are not valid,
+// and are returned in `body_only`: they claim their own cells (the same clipped colour under
+// the same lamp) without pulling the Gaussian to a hue the print does not have. Otherwise all
+// samples decide, as the paper's.
 SampleCentre markerCentre(ColorClass color, const std::vector<SamplePixel>& pixels,
                           const std::vector<Lab>& lab, const std::vector<Hsv>& hsv, const ClassStatistics& st,
                           std::vector<Hsv>& body_only) {
