@@ -205,15 +205,16 @@ ColorTable calibrateColorTable(const std::vector<CalibrationImage>& images, cons
         // Filed at the mean brightness of the class's samples in this image (most of them
         // clipped twice): a rim pixel is the print's colour dimmed by the top it blends
         // with, not by the light. The print clipped there, so it is at least that bright: a
-        // rim that will be the class's hue (kMinHueSamples) claims its cells at the ceiling
-        // too, not its Gaussian (held-out seed 9074's rand_uneven_lamps: yellow tags clipped
-        // under the brightest lamp, a robot under a lamp between unidentified in 4 of 20
-        // frames; docs/calibration.md).
+        // robot marker's rim that will be the class's hue (kMinHueSamples) claims its cells
+        // at the ceiling too, not its Gaussian (held-out seed 9074's rand_uneven_lamps: yellow
+        // tags clipped under the brightest lamp, a robot under a lamp between unidentified in
+        // 4 of 20 frames; docs/calibration.md). Not the ball's: every sample of the ball
+        // shapes its Gaussian (markerCentre).
         double v_sum = 0;
         for (std::size_t k = all.size() - positions.size(); k < all.size(); ++k) v_sum += all[k].v;
         const auto v = static_cast<std::uint8_t>(std::lround(v_sum / static_cast<double>(positions.size())));
         std::vector<std::uint8_t> filed_v = {v};
-        if (rim.size() >= kMinHueSamples && v < 255) filed_v.push_back(255);
+        if (isRobotMarkerColor(cls) && rim.size() >= kMinHueSamples && v < 255) filed_v.push_back(255);
         for (const auto& [p, patch] : rim) {
           for (const std::uint8_t at : filed_v) {
             all.push_back(filed(p.x, p.y));
