@@ -888,6 +888,35 @@ TEST(BallDetection, PartsOfLargerBlobsAreNoBallsAndABallBesideATeamTagIs) {
   EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
 }
 
+// A ball rolling past a garment beyond the touch line (held-out seed 9080's rand_bayer_ssl:
+// a yellow one 61 px across, the ball 6 px from its edge, beside it and a little below its
+// middle) lies within one ball diameter of the garment's bounding box, in the corner beside
+// its round outline: a ball. Touching the garment, it is taken for part of it, as before.
+TEST(BallDetection, ABallBesideARoundGarmentIsABall) {
+  const BallDetector detector(kCamera, kField);
+  const Eigen::Vector3d ball(-4.2, 3.1, 0.0215);
+  const Region ball_region = ballRegion(kCamera, ball);
+  const Eigen::Vector2d at(ball_region.cx, ball_region.cy);
+  const double diameter = 2 * std::sqrt(ball_region.area / M_PI);
+  const double radius = 30;                                        // the garment's, px
+  const Eigen::Vector2d towards(std::cos(0.42), -std::sin(0.42));  // right of the ball, 24° up
+  auto garment = [&](double gap) {
+    const Eigen::Vector2d centre = at + (radius + diameter / 2 + gap) * towards;
+    return test::rasterise(ColorClass::Yellow, centre, 32,
+                           [&](const Eigen::Vector2d& p) { return (p - centre).norm() <= radius; });
+  };
+  RejectionCounts rejected;
+  const Region beside = garment(0.75 * diameter);
+  const double to_box = beside.bbox.x - at.x();  // the ball lies left of the box, level with it
+  ASSERT_GT(to_box, 0);
+  ASSERT_LT(to_box, diameter);
+  ASSERT_GT(at.y(), beside.bbox.y);
+  EXPECT_EQ(detector.detect({ball_region, beside}, {}, &rejected).size(), 1u) << rejected.summary();
+  rejected = {};
+  EXPECT_TRUE(detector.detect({ball_region, garment(1.0)}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
+}
+
 // A blurred orange ball on the green carpet mixes into a yellow's hue at its edge; with a
 // yellow print of that hue in the table the edge is a yellow ring around the orange, larger
 // than it (held-out seed 9039: the ball lost in 18 frames). The ring is the ball's own rim,

@@ -92,7 +92,8 @@ class BallDetector {
     double elongation = 1;  // major over minor standard deviation of its pixels
   };
   // Whether a region larger than blob_area_ratio x `expected_area` reaches within one ball
-  // `diameter` [px] of the cluster's centre, or that centre lies inside the bounding box of
+  // `diameter` [px] of the cluster's centre (its bounding box and its moment ellipse both
+  // do), or that centre lies inside the bounding box of
   // a team-coloured region larger than the cluster that is not its rim. Both off when
   // blob_area_ratio is 0.
   bool onLargeBlob(const std::vector<Region>& regions, const Cluster& cluster, double expected_area,
