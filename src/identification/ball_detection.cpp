@@ -59,8 +59,7 @@ bool isRimAround(const Region& rim, const cv::Rect& core, double core_elongation
 // shoe), grown by `margin`. Its bounding box alone reaches into the corners beside an
 // ellipse: a ball rolling past a yellow garment beyond the touch line, 6 px from its edge
 // but within one diameter of its box, was taken for part of it (held-out seed 9080's
-// rand_bayer_ssl; 9043's and 9044's rand_people, 9060's rand_bayer_ssl alike). A region
-// without second moments has only its box.
+// rand_bayer_ssl). A region without second moments has only its box.
 bool nearMomentEllipse(const Region& r, const Eigen::Vector2d& pixel, double margin) {
   const PrincipalDeviations sd = principalDeviations(r.mu20, r.mu11, r.mu02);
   if (!(sd.major > 0)) return true;

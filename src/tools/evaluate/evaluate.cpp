@@ -285,7 +285,7 @@ sv::CalibrationImage calibrationFrame(const Options& o,
 // The colour table of one camera: given, or calibrated like calibrate_colors does from
 // samples on frames of the bag (their quad colours for Bayer: what the classifier reads),
 // with the colours of --more-samples merged in as the calibration UI merges a second frame,
-// and calibrate_colors' warnings (clipped samples, the pattern's colours without samples).
+// and calibrate_colors' warnings (clipped samples, the pattern's colours the table lacks).
 std::shared_ptr<const sv::SegmentationModel> colorModel(
     const Options& o, const sv::PatternSet& patterns, const std::map<std::size_t, std::string>& samples,
     const std::map<std::size_t, std::string>& more, const std::map<std::size_t, sv::BagFrames::Image>& frames,
