@@ -273,9 +273,7 @@ std::vector<ColorClass> classesSampledClipped(const std::vector<CalibrationImage
 
 std::string clippedSamplesWarning(const std::vector<ColorClass>& classes) {
   if (classes.empty()) return {};
-  std::string names;
-  for (const ColorClass c : classes) names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
-  return "most sample pixels of " + names +
+  return "most sample pixels of " + colorClassNames(classes) +
          " are clipped in two channels: their colour under less light is unknown, so the table will "
          "not see them where the light is dimmer. Sample them also where they are not saturated (in "
          "less light), or lower the camera's exposure or gain.";
@@ -294,10 +292,8 @@ std::vector<ColorClass> patternColorsWithoutCells(const PatternSet& patterns, co
 std::string patternColorsWithoutCellsWarning(const std::vector<ColorClass>& colors,
                                              const PatternSet& patterns) {
   if (colors.empty()) return {};
-  std::string names;
   std::set<std::size_t> ids;  // the ids wearing one of `colors`
   for (const ColorClass c : colors) {
-    names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
     for (std::size_t id = 0; id < patterns.ids.size(); ++id) {
       if (std::count(patterns.ids[id].begin(), patterns.ids[id].end(), c) > 0) ids.insert(id);
     }
@@ -305,7 +301,8 @@ std::string patternColorsWithoutCellsWarning(const std::vector<ColorClass>& colo
   std::string worn_by;
   for (const std::size_t id : ids) worn_by += (worn_by.empty() ? " (ids " : ", ") + std::to_string(id);
   if (!worn_by.empty()) worn_by += ")";
-  return "the table has no " + names + ", which pattern " + patterns.name + " puts on robots" + worn_by +
+  return "the table has no " + colorClassNames(colors) + ", which pattern " + patterns.name +
+         " puts on robots" + worn_by +
          " (not sampled, or its cells went to other colours): a robot wearing one is not seen or is read "
          "as another id. Sample them on a frame that shows them, or ignore this if no such robot plays.";
 }

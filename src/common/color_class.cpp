@@ -12,6 +12,12 @@ std::string_view colorClassName(ColorClass c) {
   return i < kNames.size() ? kNames[i] : std::string_view("invalid");
 }
 
+std::string colorClassNames(const std::vector<ColorClass>& classes) {
+  std::string names;
+  for (const ColorClass c : classes) names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
+  return names;
+}
+
 std::optional<ColorClass> parseColorClass(std::string_view name) {
   for (std::size_t i = 0; i < kNames.size(); ++i) {
     if (kNames[i] == name) return static_cast<ColorClass>(i);

@@ -179,12 +179,11 @@ ColorSamples parseColorSamples(const std::string& yaml_text, const std::string& 
 }
 
 std::string sampledClassNames(const ColorSamples& samples) {
-  std::string names;
+  std::vector<ColorClass> sampled;
   for (const auto& [color, polygons] : samples) {
-    if (polygons.empty()) continue;
-    names += (names.empty() ? "" : ", ") + std::string(colorClassName(color));
+    if (!polygons.empty()) sampled.push_back(color);
   }
-  return names;
+  return colorClassNames(sampled);
 }
 
 void checkColorSamples(const ColorSamples& samples) {

@@ -785,10 +785,8 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     // silently stop seeing that colour.
     const std::vector<ColorClass> lost = classesWithoutCells(samples, *table);
     if (!lost.empty()) {
-      std::string names;
-      for (const ColorClass c : lost) names += (names.empty() ? "" : ", ") + std::string(colorClassName(c));
-      throw std::runtime_error("the new table has no cell for " + names + " (" + summarizeTable(*table) +
-                               ")");
+      throw std::runtime_error("the new table has no cell for " + colorClassNames(lost) + " (" +
+                               summarizeTable(*table) + ")");
     }
     std::shared_ptr<const SegmentationModel> m = SegmentationModel::fromTable(table);
     std::string source = "~calibrate on frame " + std::to_string(image->header.stamp.toSec()) +

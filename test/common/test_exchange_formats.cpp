@@ -111,6 +111,9 @@ TEST(ExchangeFormats, SampledClassNamesListTheClassesWithPolygons) {
   s[ColorClass::Yellow];  // no polygon: not sampled
   EXPECT_EQ(sampledClassNames(s), "blue, pink");
   EXPECT_EQ(sampledClassNames({}), "");
+  // The names in the order given (colour_class.h), as the calibration's warnings list them.
+  EXPECT_EQ(colorClassNames({ColorClass::Purple, ColorClass::Pink}), "purple, pink");
+  EXPECT_EQ(colorClassNames({}), "");
 }
 
 TEST(ExchangeFormats, ColorSamplesWithNanHugeOrDegeneratePolygonsAreRefusedNamingFileAndPolygon) {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace soccer_vision {
 
@@ -30,6 +31,8 @@ constexpr int kNumColorClasses = static_cast<int>(ColorClass::Count);
 
 // Name used in YAML/JSON files ("sky_blue", "robot_top", ...).
 std::string_view colorClassName(ColorClass c);
+// Their names joined by ", " in the order given ("pink, purple"), for messages.
+std::string colorClassNames(const std::vector<ColorClass>& classes);
 // Parses a name as written by colorClassName; nullopt for unknown names.
 std::optional<ColorClass> parseColorClass(std::string_view name);
 
