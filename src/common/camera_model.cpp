@@ -151,6 +151,11 @@ std::optional<Eigen::Vector2d> CameraModel::projectInImage(const Eigen::Vector3d
   return px;
 }
 
+bool CameraModel::allInImage(const std::vector<Eigen::Vector3d>& field_points) const {
+  return std::all_of(field_points.begin(), field_points.end(),
+                     [&](const Eigen::Vector3d& p) { return projectInImage(p).has_value(); });
+}
+
 void checkIntrinsics(const CameraIntrinsics& k) {
   if (k.width < 1 || k.width > kMaxImageSide || k.height < 1 || k.height > kMaxImageSide) {
     throw std::invalid_argument("image size " + std::to_string(k.width) + "x" + std::to_string(k.height) +

@@ -17,9 +17,9 @@ void MeasuredRateCounter::add(const FrameRecord& truth, const CameraModel& camer
     if (!robot.visible.value_or(false)) continue;
     // Shown by this camera: all its markers in the image (the truth's `visible` may be
     // another camera's).
-    const auto in_image = [&](const Eigen::Vector3d& p) { return camera.projectInImage(p).has_value(); };
-    const auto outline = markerOutlinePoints(patterns_, robot.team, robot.id, robot.x, robot.y, robot.theta);
-    if (!std::all_of(outline.begin(), outline.end(), in_image)) continue;
+    if (!camera.allInImage(
+            markerOutlinePoints(patterns_, robot.team, robot.id, robot.x, robot.y, robot.theta)))
+      continue;
     const auto top =
         projectDisc(camera, {robot.x, robot.y, patterns_.height(robot.team)}, patterns_.robot_radius);
     if (!top) continue;

@@ -120,15 +120,6 @@ double distanceToLines(const Eigen::Vector2d& p, const FieldGeometry& field) {
   return d;
 }
 
-// Whether every marker outline of `r` is in the image (FieldRenderer::robotVisible).
-bool robotInView(const CameraModel& camera, const PatternSet& patterns, const RobotState& r) {
-  for (const Eigen::Vector3d& p : markerOutlinePoints(patterns, r.team, r.id, r.x, r.y, r.theta)) {
-    const auto px = camera.project(p);
-    if (!px || !camera.inImage(*px)) return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& camera,
@@ -141,8 +132,9 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
   for (const auto& r : scene.robots) {
     const double z_top = patterns.height(r.team);
     const auto markers = patterns.markers(r.team, r.id);
-    const PolygonProjector& marker_projector =
-        options.robots_in_view_to_border && robotInView(camera, patterns, r) ? to_border : projector;
+    const bool in_view = options.robots_in_view_to_border &&
+                         camera.allInImage(markerOutlinePoints(patterns, r.team, r.id, r.x, r.y, r.theta));
+    const PolygonProjector& marker_projector = in_view ? to_border : projector;
     for (const auto& m : markers) {
       std::vector<Eigen::Vector3d> pts;
       MarkerShape shape = m.shape;

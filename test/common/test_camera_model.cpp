@@ -67,6 +67,10 @@ TEST(CameraModel, ProjectInImageGivesThePixelOnlyInsideTheImageAndItsMargin) {
   EXPECT_FALSE(cam.projectInImage(near_edge, 3.0));
   // Behind the camera: no pixel at all.
   EXPECT_FALSE(cam.projectInImage(cam.cameraCentre() + Eigen::Vector3d(0, 0, 1.0), -1e6));
+  // All points in the image, or not all.
+  EXPECT_TRUE(cam.allInImage({near_edge, *cam.pixelToField({640.0, 512.0}, 0.0)}));
+  EXPECT_FALSE(cam.allInImage({near_edge, beyond}));
+  EXPECT_TRUE(cam.allInImage({}));
 }
 
 TEST(CameraModel, ScaledCameraSeesTheSameFieldPoint) {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <optional>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -72,6 +73,10 @@ class CameraModel {
   // Field point -> raw pixel when it lies in the image (inImage with `margin`; a negative
   // margin reaches beyond the edge), else nullopt (also behind the camera).
   std::optional<Eigen::Vector2d> projectInImage(const Eigen::Vector3d& p_field, double margin = 0.0) const;
+  // Whether every field point projects into the image: a robot is in view when all its
+  // marker outlines are (markerOutlinePoints), as the measured rate and the simulated user
+  // count it.
+  bool allInImage(const std::vector<Eigen::Vector3d>& field_points) const;
 
  private:
   CameraIntrinsics k_;
