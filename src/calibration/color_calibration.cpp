@@ -307,6 +307,18 @@ std::string patternColorsWithoutCellsWarning(const std::vector<ColorClass>& colo
          "as another id. Sample them on a frame that shows them, or ignore this if no such robot plays.";
 }
 
+std::vector<std::string> calibrationWarnings(const std::vector<CalibrationImage>& images,
+                                             const ColorTable& table, const PatternSet* patterns) {
+  std::vector<std::string> warnings;
+  for (std::string w :
+       {clippedSamplesWarning(classesSampledClipped(images)),
+        patterns ? patternColorsWithoutCellsWarning(patternColorsWithoutCells(*patterns, table), *patterns)
+                 : std::string()}) {
+    if (!w.empty()) warnings.push_back(std::move(w));
+  }
+  return warnings;
+}
+
 ColorTable keepUnsampledClasses(const ColorTable& fresh, const ColorTable& previous,
                                 const ColorSamples& samples) {
   std::vector<ColorClass> unsampled;

@@ -805,11 +805,7 @@ bool SegmentationNodelet::calibrate(Calibrate::Request& req, Calibrate::Response
     last_load_failed_ = false;  // a failed color_table file is not retried over this table
     res.success = true;
     res.message = summarizeTable(*table);
-    const std::string lacking =
-        pattern_ ? patternColorsWithoutCellsWarning(patternColorsWithoutCells(*pattern_, *table), *pattern_)
-                 : "";
-    for (const std::string& w : {clippedSamplesWarning(classesSampledClipped(images)), lacking}) {
-      if (w.empty()) continue;
+    for (const std::string& w : calibrationWarnings(images, *table, pattern_ ? &*pattern_ : nullptr)) {
       res.message += "; warning: " + w;
       NODELET_WARN("~calibrate: %s", w.c_str());
     }

@@ -264,13 +264,8 @@ int main(int argc, char** argv) {
     std::printf("calibrated from %zu image(s) of %dx%d\n", inputs.size(), inputs.front().bgr.cols,
                 inputs.front().bgr.rows);
     printStatistics(table);
-    if (const std::string w = sv::clippedSamplesWarning(sv::classesSampledClipped(inputs)); !w.empty())
+    for (const std::string& w : sv::calibrationWarnings(inputs, table, patterns ? &*patterns : nullptr))
       std::printf("warning: %s\n", w.c_str());
-    if (patterns) {
-      const std::string w =
-          sv::patternColorsWithoutCellsWarning(sv::patternColorsWithoutCells(*patterns, table), *patterns);
-      if (!w.empty()) std::printf("warning: %s\n", w.c_str());
-    }
     std::printf("written: %s\n", o.out.c_str());
     if (!o.preview.empty()) writePreview(o.preview, table, inputs.front().bgr);
   } catch (const std::exception& e) {

@@ -134,6 +134,10 @@ TEST(ColorCalibration, PatternColorsTheTableLacksAreNamed) {
   EXPECT_NE(warning.find("purple, green, red"), std::string::npos) << warning;
   EXPECT_NE(warning.find("(ids 1, 3, 4)"), std::string::npos) << warning;
   EXPECT_EQ(patternColorsWithoutCellsWarning({}, two_tag), "");
+  // What calibrate_colors, evaluate and ~calibrate say: that warning (nothing is clipped
+  // here), or nothing without a pattern.
+  EXPECT_EQ(calibrationWarnings({{image, samples}}, table, &two_tag), std::vector<std::string>{warning});
+  EXPECT_TRUE(calibrationWarnings({{image, samples}}, table, nullptr).empty());
 
   // The SSL pattern wears pink and green beside the team colours; team_only only those.
   EXPECT_EQ(patternColorsWithoutCells(PatternSet::ssl(), table), std::vector<ColorClass>{ColorClass::Green});

@@ -61,7 +61,7 @@ std::vector<ColorClass> classesWithoutCells(const ColorSamples& samples, const C
 // rand_uneven_lamps: both yellow tags sampled at (255, 255, 58) under the brightest lamp;
 // a yellow tag under a dimmer one read (214, 161, 36) and was not seen in 127 frames).
 std::vector<ColorClass> classesSampledClipped(const std::vector<CalibrationImage>& images);
-// The warning for them, one text for calibrate_colors and ~calibrate; empty for none.
+// The warning for them (calibrationWarnings); empty for none.
 std::string clippedSamplesWarning(const std::vector<ColorClass>& classes);
 // The colours `patterns` puts on robots (both teams' and every id colour) that `table` has
 // no cell for: no sample covered them, or the Bayes decisions gave all their cells away. The
@@ -70,9 +70,14 @@ std::string clippedSamplesWarning(const std::vector<ColorClass>& classes);
 // purple dot never sampled read pink, blue 1 output as blue 0 in every frame). The
 // pattern's colours are the user's to check, not the table's.
 std::vector<ColorClass> patternColorsWithoutCells(const PatternSet& patterns, const ColorTable& table);
-// The warning for them, one text for calibrate_colors, evaluate and ~calibrate; empty for none.
+// The warning for them (calibrationWarnings); empty for none.
 std::string patternColorsWithoutCellsWarning(const std::vector<ColorClass>& colors,
                                              const PatternSet& patterns);
+// What a calibration warns of, as calibrate_colors, evaluate and ~calibrate say it: marker
+// colours sampled clipped in `images`, then, with a pattern (null: not checked), the colours
+// it puts on robots that `table`, calibrated on them, has no cell for. None: empty.
+std::vector<std::string> calibrationWarnings(const std::vector<CalibrationImage>& images,
+                                             const ColorTable& table, const PatternSet* patterns);
 
 // `fresh`, built from `samples` with paramsBesideKeptClasses, with every class `samples`
 // has no polygon for taken from `previous` (ColorTable::withClassesFrom): a user who paints

@@ -325,11 +325,8 @@ std::shared_ptr<const sv::SegmentationModel> colorModel(
                 sv::sampledClassNames(images.back().samples).c_str(), frame);
   }
   auto table = std::make_shared<const sv::ColorTable>(sv::calibrateColorTable(images));
-  for (const std::string& w :
-       {sv::clippedSamplesWarning(sv::classesSampledClipped(images)),
-        sv::patternColorsWithoutCellsWarning(sv::patternColorsWithoutCells(patterns, *table), patterns)}) {
-    if (!w.empty()) std::printf("camera %d: warning: %s\n", camera_id, w.c_str());
-  }
+  for (const std::string& w : sv::calibrationWarnings(images, *table, &patterns))
+    std::printf("camera %d: warning: %s\n", camera_id, w.c_str());
   return sv::SegmentationModel::fromTable(std::move(table));
 }
 
