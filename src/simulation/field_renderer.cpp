@@ -714,4 +714,13 @@ bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotSt
   return 2 * seen >= samples;
 }
 
+SceneState FieldRenderer::withVisibleBalls(const SceneState& scene) const {
+  SceneState shown = scene;
+  shown.balls.clear();
+  for (const BallState& b : scene.balls) {
+    if (ballVisible(b, scene.robots)) shown.balls.push_back(b);
+  }
+  return shown;
+}
+
 }  // namespace soccer_vision

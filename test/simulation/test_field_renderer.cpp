@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "soccer_vision/segmentation/color_table.h"
+#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/field_renderer.h"
 #include "support/scene_objects.h"
 
@@ -465,5 +467,44 @@ TEST(FieldRenderer, ABallBehindARobotIsNotVisible) {
         << "ball at " << c.ball.transpose() << ": " << shown << " of " << whole << " px shown";
     EXPECT_EQ(shown >= whole / 2, c.visible) << shown << " of " << whole << " px shown";
     EXPECT_TRUE(renderer.ballVisible(scene.balls[0], {}));
+  }
+}
+
+// A person calibrating paints the balls the image shows, and no ball hidden behind a robot:
+// held-out seed 9086's rand_bayer_ssl had its ball's polygon drawn on a robot's black top
+// (the ball behind it), so the table's orange was black, the ball was never found and
+// robots' rims at the image's edge were taken for it (41 false balls).
+TEST(FieldRenderer, APersonCalibratingPaintsNoBallHiddenBehindARobot) {
+  const CameraModel camera = CameraModel::defaultCamera(kField, 0);
+  const PatternSet patterns = PatternSet::twoTag();
+  const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
+  const Eigen::Vector2d nadir = camera.cameraCentre().head<2>();
+  const Eigen::Vector2d robot_at = nadir + Eigen::Vector2d(-1.0, -1.7);
+  const Eigen::Vector2d outwards = (robot_at - nadir).normalized();
+  const double touching = patterns.robot_radius + 0.0215 + 0.002;
+  const SampleOptions user = SampleOptions::drawnByUser(2);
+  for (const double side : {1.0, -1.0}) {  // behind the robot, in front of it
+    SceneState scene;
+    scene.robots = {robotState(Team::Blue, 2, robot_at.x(), robot_at.y(), 0.4)};
+    scene.balls.resize(1);
+    scene.balls[0].x = robot_at.x() + side * outwards.x() * touching;
+    scene.balls[0].y = robot_at.y() + side * outwards.y() * touching;
+    const bool visible = side < 0;
+    const ColorSamples painted =
+        calibrationSamples(renderer.withVisibleBalls(scene), camera, kField, patterns, user);
+    EXPECT_EQ(painted.count(ColorClass::Orange) == 1, visible);
+    EXPECT_EQ(renderer.withVisibleBalls(scene).robots.size(), 1u);
+    // Every ball's polygon, as the user was once given it: the hidden one lies on the top.
+    const ColorSamples all = calibrationSamples(scene, camera, kField, patterns, user);
+    ASSERT_EQ(all.count(ColorClass::Orange), 1u);
+    const cv::Mat labels = renderer.renderLabels(scene);
+    const auto pixels = samplePixelPositions(labels.size(), all);
+    int orange = 0, total = 0;
+    for (const cv::Point& p : pixels.at(ColorClass::Orange)) {
+      ++total;
+      orange += labels.at<std::uint8_t>(p) == static_cast<int>(ColorClass::Orange);
+    }
+    ASSERT_GT(total, 0);
+    EXPECT_EQ(2 * orange > total, visible) << orange << " of " << total << " polygon pixels show the ball";
   }
 }

@@ -79,6 +79,9 @@ class FieldRenderer {
   bool robotVisible(const RobotState& robot) const;
   // Ball fully in the image and at least half of its image not hidden behind `robots`.
   bool ballVisible(const BallState& ball, const std::vector<RobotState>& robots) const;
+  // The scene with only the balls ballVisible keeps: what a person calibrating can paint (a
+  // ball hidden behind a robot shows the robot's top where its polygon would lie).
+  SceneState withVisibleBalls(const SceneState& scene) const;
 
  private:
   struct Impl;
