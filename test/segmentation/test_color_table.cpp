@@ -1426,11 +1426,12 @@ TEST(ColorTable, GeneralisationRecognisesOtherPrintsOfAFewSamples) {
 
 TEST(ColorTable, ABallSampledOnAFewRimPixelsIsNotMixedFurtherWithTheCarpet) {
   // Held-out seed 9085's rand_wide_angle: the calibration frames showed the ball only 6 px
-  // across in a dim corner, and a polygon 2 px inside it held one pixel, (5, 89, 169): the
+  // across in a dim corner, and a polygon 2 px inside it held one pixel, BGR (5, 89, 169): the
   // ball already mixed with the carpet at its rim (hue 31°). Mixed further with the carpet
   // its colour turned towards yellow and took a golden yellow tag (hue 38-43°) that the
-  // calibration frame did not show: here (40, 130, 185), hue 37°. Fewer than kMinHueSamples valid samples of
-  // the ball are its rim: they are still unmixed from the carpet (a blurred ball), no longer mixed with it.
+  // calibration frame did not show: here (40, 130, 185), hue 37°. Fewer than
+  // kMinHueSamples valid samples of the ball are its rim: they are still unmixed from the
+  // carpet (a blurred ball), no longer mixed with it.
   const cv::Vec3b rim[] = {{5, 89, 169}, {8, 86, 165}, {4, 92, 172}};
   const cv::Vec3b golden(40, 130, 185);
   auto samplesWithBall = [&](int copies) {

@@ -151,9 +151,9 @@ struct ColorTableParams {
   // 255): with the sharp samples' spread, so the class is a tube along the mixture line.
   // A ball with fewer than kMinHueSamples valid samples is not mixed, only unmixed: a
   // polygon inside a ball a few pixels across holds only its rim, already mixed. 0 = off.
-  // docs/segmentation.md: 0.1 and 0.4. A mixture of 0.18 or more takes a yellow print under a warm lamp
-  // (test_online_calibration_in_pipeline); of 0.12 or more, a red dot at a robot's rim on the real 2008 frame
-  // outranks the ball (test_real_frame.py).
+  // docs/segmentation.md: 0.1 and 0.4. A mixture of 0.18 or more takes a yellow print
+  // under a warm lamp (test_online_calibration_in_pipeline); of 0.12 or more, a red dot at
+  // a robot's rim on the real 2008 frame outranks the ball (test_real_frame.py).
   double ball_carpet_mix = 0.1;
   double ball_carpet_unmix = 0.4;
   // With generalisation: each valid sample of a robot's marker colour also stands for
