@@ -1126,15 +1126,10 @@ ColorTable ColorTable::buildWithPrints(const ClassSamplePixels& samples, const C
     PrintColours print = printColours(pixels, hsv, lab, centre.valid, marker, params, brightest_light);
     body_only.insert(body_only.end(), print.body_only.begin(), print.body_only.end());
     std::vector<Hsv>& valid = print.hsv;
-    // The ball's samples mixed with the carpet and unmixed from it, level by level. Fewer
-    // than kMinHueSamples valid ones are a small ball's rim, already mixed: only unmixed
-    // (held-out seed 9085: one rim pixel's mixtures took a golden yellow tag).
+    // The ball's samples mixed with the carpet and unmixed from it, level by level.
     std::vector<std::vector<Lab>> mixture_levels;
     if (color == ColorClass::Orange && carpet_colour) {
-      const bool rim_only = static_cast<std::size_t>(
-                                std::count(centre.valid.begin(), centre.valid.end(), true)) < kMinHueSamples;
       for (const double mix : carpetMixtureLevels(params)) {
-        if (rim_only && mix > 0) continue;
         std::vector<Hsv> level_hsv;
         std::vector<Lab> level_lab;
         for (std::size_t i = 0; i < pixels.size(); ++i) {

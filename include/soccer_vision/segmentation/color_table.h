@@ -69,7 +69,7 @@ ClassPixels collectSamplePixels(const cv::Mat& bgr, const ColorSamples& samples)
 bool clippedTwice(const cv::Vec3b& bgr);
 // The samples showing their hue (not clipped twice) a robot marker class needs for its
 // validity centre and Gaussian to be theirs alone; its samples clipped twice then only claim
-// their own cells. Fewer valid samples of the ball are its rim (ball_carpet_mix).
+// their own cells.
 constexpr std::size_t kMinHueSamples = 8;
 // Whether one channel or more is at that ceiling.
 bool clippedAnyChannel(const cv::Vec3b& bgr);
@@ -149,11 +149,9 @@ struct ColorTableParams {
   // sharp ball's samples, a blurred ball), and likewise up to `ball_carpet_unmix` of carpet
   // taken out of them (a blurred ball's samples, a sharp ball; not past a channel's 0 or
   // 255): with the sharp samples' spread, so the class is a tube along the mixture line.
-  // A ball with fewer than kMinHueSamples valid samples is not mixed, only unmixed: a
-  // polygon inside a ball a few pixels across holds only its rim, already mixed. 0 = off.
-  // docs/segmentation.md: 0.1 and 0.4. A mixture of 0.18 or more takes a yellow print
-  // under a warm lamp (test_online_calibration_in_pipeline); of 0.12 or more, a red dot at
-  // a robot's rim on the real 2008 frame outranks the ball (test_real_frame.py).
+  // 0 = off. docs/segmentation.md: 0.1 and 0.4. A mixture of 0.18 or more takes a yellow
+  // print under a warm lamp (test_online_calibration_in_pipeline); of 0.12 or more, a red
+  // dot at a robot's rim on the real 2008 frame outranks the ball (test_real_frame.py).
   double ball_carpet_mix = 0.1;
   double ball_carpet_unmix = 0.4;
   // With generalisation: each valid sample of a robot's marker colour also stands for
