@@ -19,6 +19,7 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -129,18 +130,30 @@ TEST(VisionPipeline, TrackedGameMatchesTheGroundTruth) {
   // A bag is scored whole, until its player has left (the camera_info subscription has no
   // publisher any more): beside the vision system, rosbag play stalled for up to 9 s at the
   // start, and a fixed time after the first output scored 1 frame of 480 once (CI).
+  // Gone means gone for a second, and the reason scoring ended is printed: a CI run scored 41
+  // frames of 480 once (2026-12-07, beside a held-out run; cause unknown, not reproduced), and
+  // a single look that finds no publisher is one way it could end that early.
   const bool from_bag = !ros::NodeHandle("~").param("bag", std::string()).empty();
-  bool player_seen = false;
+  std::optional<ros::WallTime> player_last_seen;
+  const ros::WallTime start = ros::WallTime::now();
   while (ros::ok()) {
-    const bool player_here = subs.front().getNumPublishers() > 0;
-    player_seen |= player_here;
+    const ros::WallTime now = ros::WallTime::now();
+    if (subs.front().getNumPublishers() > 0) player_last_seen = now;
+    const bool player_gone = from_bag && player_last_seen && (now - *player_last_seen).toSec() > 1.0;
     {
       std::lock_guard<std::mutex> lock(rec.mutex);
-      const ros::WallTime now = ros::WallTime::now();
-      if (rec.robots.empty()
-              ? now > give_up
-              : (now - rec.first_output).toSec() > duration || (from_bag && player_seen && !player_here))
+      const char* why = nullptr;
+      if (rec.robots.empty()) {
+        if (now > give_up) why = "no output came";
+      } else if ((now - rec.first_output).toSec() > duration) {
+        why = "the duration has passed";
+      } else if (player_gone) {
+        why = "the bag's player has left";
+      }
+      if (why) {
+        std::printf("[ vision pipeline ] scoring ends after %.1f s: %s\n", (now - start).toSec(), why);
         break;
+      }
     }
     ros::WallDuration(0.1).sleep();
   }

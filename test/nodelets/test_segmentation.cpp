@@ -139,6 +139,7 @@ class SegmentationTest : public ::testing::Test {
   static void TearDownTestSuite() {
     delete subs_;
     delete rec_;
+    EXPECT_EQ(std::system(("rm -rf '" + dir_ + "'").c_str()), 0);  // each run has its own directory
   }
 
   void SetUp() override { camera_ = sv::CameraModel::defaultCamera(field_, 0, width_, height_); }
@@ -598,8 +599,9 @@ TEST_F(SegmentationTest, BadCalibrateRequestsAreRefusedWithTheirReason) {
     EXPECT_NE(res.message.find(reason), std::string::npos) << res.message.substr(0, 300);
     std::printf("[ calibrate refused ] %s\n", res.message.substr(0, 200).c_str());
   }
-  // Saving: only inside the directory of color_table (dir_).
-  const std::string outside = "/tmp/soccer_vision_test_segmentation_outside.svct";
+  // Saving: only inside the directory of color_table (dir_); the first path begins with dir_'s
+  // name, so a check on the string's prefix would let it through.
+  const std::string outside = dir_ + "_outside.svct";
   std::remove(outside.c_str());
   for (const std::string& path : {outside, std::string("../outside.svct"), dir_ + "/../outside.svct"}) {
     const soccer_vision::Calibrate::Response res = calibrate(sv::toYaml(samples()), true, path);
