@@ -680,7 +680,7 @@ bool FieldRenderer::robotVisible(const RobotState& robot) const {
   return true;
 }
 
-bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotState>& robots) const {
+double FieldRenderer::ballShown(const BallState& ball, const std::vector<RobotState>& robots) const {
   const Impl& m = *impl_;
   const double r = kBallRadius;
   const Eigen::Vector3d c(ball.x, ball.y, ball.z);
@@ -688,11 +688,11 @@ bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotSt
        {Eigen::Vector3d(r, 0, 0), Eigen::Vector3d(-r, 0, 0), Eigen::Vector3d(0, r, 0),
         Eigen::Vector3d(0, -r, 0), Eigen::Vector3d(0, 0, r)}) {
     const auto px = m.projectForBounds(c + offset);
-    if (!px || !m.camera.inImage(*px)) return false;
+    if (!px || !m.camera.inImage(*px)) return 0;
   }
   // Seen by the camera: a ball beside a robot on its far side from the nadir lies behind the
   // robot's body (a 150 mm robot 2 m from the nadir covers 75 mm beyond its footprint). The
-  // ball's image is sampled on the disc facing the camera; at least half of it must be seen.
+  // ball's image is sampled on the disc facing the camera.
   const Eigen::Vector3d view = (m.centre - c).normalized();
   const Eigen::Vector3d e1 = view.unitOrthogonal(), e2 = view.cross(e1);
   int samples = 0, seen = 0;
@@ -711,14 +711,18 @@ bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotSt
       });
     }
   }
-  return 2 * seen >= samples;
+  return static_cast<double>(seen) / samples;
 }
 
-SceneState FieldRenderer::withVisibleBalls(const SceneState& scene) const {
+bool FieldRenderer::ballVisible(const BallState& ball, const std::vector<RobotState>& robots) const {
+  return ballShown(ball, robots) >= 0.5;
+}
+
+SceneState FieldRenderer::withWhollyVisibleBalls(const SceneState& scene) const {
   SceneState shown = scene;
   shown.balls.clear();
   for (const BallState& b : scene.balls) {
-    if (ballVisible(b, scene.robots)) shown.balls.push_back(b);
+    if (ballShown(b, scene.robots) == 1.0) shown.balls.push_back(b);
   }
   return shown;
 }

@@ -35,7 +35,7 @@ ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index,
     const SceneState shown = extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor));
     images.push_back(
         {classifiedColors(frame.image, *layout),
-         calibrationSamples(renderer.withVisibleBalls(shown), renderer.camera(), field, patterns)});
+         calibrationSamples(renderer.withWhollyVisibleBalls(shown), renderer.camera(), field, patterns)});
     for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
   }
   return calibrateColorTable(images);

@@ -491,9 +491,9 @@ TEST(FieldRenderer, APersonCalibratingPaintsNoBallHiddenBehindARobot) {
     scene.balls[0].y = robot_at.y() + side * outwards.y() * touching;
     const bool visible = side < 0;
     const ColorSamples painted =
-        calibrationSamples(renderer.withVisibleBalls(scene), camera, kField, patterns, user);
+        calibrationSamples(renderer.withWhollyVisibleBalls(scene), camera, kField, patterns, user);
     EXPECT_EQ(painted.count(ColorClass::Orange) == 1, visible);
-    EXPECT_EQ(renderer.withVisibleBalls(scene).robots.size(), 1u);
+    EXPECT_EQ(renderer.withWhollyVisibleBalls(scene).robots.size(), 1u);
     // Every ball's polygon, as the user was once given it: the hidden one lies on the top.
     const ColorSamples all = calibrationSamples(scene, camera, kField, patterns, user);
     ASSERT_EQ(all.count(ColorClass::Orange), 1u);
@@ -507,4 +507,48 @@ TEST(FieldRenderer, APersonCalibratingPaintsNoBallHiddenBehindARobot) {
     ASSERT_GT(total, 0);
     EXPECT_EQ(2 * orange > total, visible) << orange << " of " << total << " polygon pixels show the ball";
   }
+}
+
+// Nor one partly hidden: the truth counts a ball as visible when half of it shows, but a
+// polygon 2 px inside its outline would then take in the robot hiding the rest.
+TEST(FieldRenderer, APersonCalibratingPaintsNoBallPartlyHiddenBehindARobot) {
+  const CameraModel camera = CameraModel::defaultCamera(kField, 0);
+  const PatternSet patterns = PatternSet::twoTag();
+  const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
+  const Eigen::Vector2d nadir = camera.cameraCentre().head<2>();
+  const Eigen::Vector2d robot_at = nadir + Eigen::Vector2d(-1.0, -1.7);
+  const Eigen::Vector2d outwards = (robot_at - nadir).normalized();
+  SceneState scene;
+  scene.robots = {robotState(Team::Blue, 2, robot_at.x(), robot_at.y(), 0.4)};
+  scene.balls.resize(1);
+  // Behind the robot, moved away from it until part of the ball shows.
+  double shown = 0;
+  for (double d = patterns.robot_radius + 0.0235; d < 0.5 && !(shown >= 0.5 && shown < 1); d += 0.002) {
+    scene.balls[0].x = robot_at.x() + outwards.x() * d;
+    scene.balls[0].y = robot_at.y() + outwards.y() * d;
+    shown = renderer.ballShown(scene.balls[0], scene.robots);
+  }
+  ASSERT_GE(shown, 0.5);
+  ASSERT_LT(shown, 1.0);
+  EXPECT_TRUE(renderer.ballVisible(scene.balls[0], scene.robots)) << "the truth counts it";
+  const SampleOptions user = SampleOptions::drawnByUser(2);
+  EXPECT_EQ(calibrationSamples(renderer.withWhollyVisibleBalls(scene), camera, kField, patterns, user)
+                .count(ColorClass::Orange),
+            0u);
+  // Its whole polygon holds pixels of the robot.
+  const ColorSamples all = calibrationSamples(scene, camera, kField, patterns, user);
+  ASSERT_EQ(all.count(ColorClass::Orange), 1u);
+  const cv::Mat labels = renderer.renderLabels(scene);
+  const auto pixels = samplePixelPositions(labels.size(), all);
+  int other = 0;
+  for (const cv::Point& p : pixels.at(ColorClass::Orange))
+    other += labels.at<std::uint8_t>(p) != static_cast<int>(ColorClass::Orange);
+  EXPECT_GT(other, 0) << "shown " << shown;
+  // Moved on until nothing hides it, it is painted.
+  scene.balls[0].x += outwards.x() * 0.1;
+  scene.balls[0].y += outwards.y() * 0.1;
+  ASSERT_EQ(renderer.ballShown(scene.balls[0], scene.robots), 1.0);
+  EXPECT_EQ(calibrationSamples(renderer.withWhollyVisibleBalls(scene), camera, kField, patterns, user)
+                .count(ColorClass::Orange),
+            1u);
 }

@@ -77,11 +77,13 @@ class FieldRenderer {
   const CameraModel& camera() const;
   // Robot fully in the image (all its markers).
   bool robotVisible(const RobotState& robot) const;
+  // The share of the ball's image not hidden behind `robots`; 0 unless it is wholly in the image.
+  double ballShown(const BallState& ball, const std::vector<RobotState>& robots) const;
   // Ball fully in the image and at least half of its image not hidden behind `robots`.
   bool ballVisible(const BallState& ball, const std::vector<RobotState>& robots) const;
-  // The scene with only the balls ballVisible keeps: what a person calibrating can paint (a
-  // ball hidden behind a robot shows the robot's top where its polygon would lie).
-  SceneState withVisibleBalls(const SceneState& scene) const;
+  // The scene with only the balls nothing hides: what a person calibrating paints (a polygon
+  // inside a ball partly behind a robot would take in the robot's side or top).
+  SceneState withWhollyVisibleBalls(const SceneState& scene) const;
 
  private:
   struct Impl;
