@@ -36,4 +36,8 @@ else:
 PY
 sleep 1  # the tracker's camera pose and the subscriptions settle
 # --delay: every subscriber (vision and test) connects to every topic before the first frame.
-exec rosbag play --quiet --delay 1 "$dir/scenario.bag"
+# --rate 0.5: on a 2-core machine the player's decompression and publishing of 60 Hz
+# 1280x1024 frames competes with the vision system, whose frames queue one deep; at full
+# rate a run received 287 of 480 outputs, a CI run 41. What this test checks is accuracy
+# on a recording (speed is bench's), and the tracker follows the frames' stamps, not the clock.
+exec rosbag play --quiet --delay 1 --rate 0.5 "$dir/scenario.bag"
