@@ -15,8 +15,10 @@
 // Background: a non-marker pixel with no marker pixel among its 8 neighbours; a false
 // positive is one given a marker colour.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -111,11 +113,29 @@ ColorSamples strokesOf(const ColorSamples& exact) {
   return strokes;
 }
 
-// A table variant: its parameters, and whether it is calibrated from strokesOf the samples.
+// A sloppy user's polygons: each of `exact` moved by `px` in a direction of its own
+// (seeded: the same directions every run), so a 2 px inset keeps 2 - px px off the edge.
+ColorSamples movedBy(const ColorSamples& exact, double px) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> angle(0, 2 * M_PI);
+  ColorSamples moved = exact;
+  for (auto& [c, polygons] : moved) {
+    for (Polygon& p : polygons) {
+      const double a = angle(rng);
+      for (Eigen::Vector2d& v : p) v += px * Eigen::Vector2d(std::cos(a), std::sin(a));
+    }
+  }
+  return moved;
+}
+
+// A table variant: its parameters, and whether it is calibrated from strokesOf the samples
+// or from them moved by `moved_px` (movedBy).
 struct Variant {
-  Variant(const ColorTableParams& p, bool s = false) : params(p), strokes(s) {}  // NOLINT: lists of params
+  Variant(const ColorTableParams& p, bool s = false, double m = 0)  // NOLINT: lists of params
+      : params(p), strokes(s), moved_px(m) {}
   ColorTableParams params;
   bool strokes;
+  double moved_px;
 };
 
 // Per table variant: accuracy on held-out frames of a randomised scene (1 s and 2 s into the
@@ -148,7 +168,9 @@ std::vector<Accuracy> heldOutRandomised(const ScenarioConfig& scenario, const st
     }
     const cv::Mat colors = classifiedColors(frame.image, layout);
     for (const Variant& v : variants) {
-      const ColorSamples drawn_samples = v.strokes ? strokesOf(samples) : samples;
+      const ColorSamples drawn_samples = v.strokes        ? strokesOf(samples)
+                                         : v.moved_px > 0 ? movedBy(samples, v.moved_px)
+                                                          : samples;
       models.push_back(SegmentationModel::fromTable(
           std::make_shared<const ColorTable>(calibrateColorTable({{colors, drawn_samples}}, v.params))));
     }
@@ -285,25 +307,29 @@ TEST(OneFrameTable, MarkerInteriorsOfRandomisedScenesAreClassified) {
 // (docs/calibration.md): 99.766 % against 99.784 % over all kinds, the largest gap 0.19 %
 // (rand_flicker_jpeg); on 2026-12-04 rand_uneven_lamps and rand_bayer were 1.4 and 2.9 %
 // short. On held-out seeds 9100-9104: 49 of 50 kinds x seeds within 0.5 %.
+// The same bound for a sloppy hand: every polygon 1 px off where it belongs (the 2 px
+// inset half used up), the third variant below.
 TEST(OneFrameTable, AFewStrokesPerClassDoAsWellAsExactSamples) {
-  Accuracy total[2];
+  Accuracy total[3];
   for (const char* name :
        {"rand_even_static", "rand_uneven_lamps", "rand_fast", "rand_packed", "rand_people",
         "rand_flicker_jpeg", "rand_bayer", "rand_ssl", "rand_wide_angle", "rand_bayer_ssl"}) {
-    const std::vector<Accuracy> a =
-        heldOutRandomised(preset(name), {ColorTableParams{}, Variant(ColorTableParams{}, true)});
+    const std::vector<Accuracy> a = heldOutRandomised(
+        preset(name),
+        {ColorTableParams{}, Variant(ColorTableParams{}, true), Variant(ColorTableParams{}, false, 1.0)});
     std::printf(
-        "[ %-17s ] marker interiors: exact samples %.3f %%, 3 strokes per class %.3f %%; background -> "
-        "marker "
-        "%.5f %%, %.5f %%\n",
-        name, 100 * a[0].markers(), 100 * a[1].markers(), 100 * a[0].falsePositives(),
-        100 * a[1].falsePositives());
-    for (int v = 0; v < 2; ++v) total[v].add(a[v]);
-    EXPECT_GE(a[1].markers(), a[0].markers() - 0.005) << name;
+        "[ %-17s ] marker interiors: exact samples %.3f %%, 3 strokes per class %.3f %%, polygons moved 1 px "
+        "%.3f %%; background -> marker %.5f %%, %.5f %%, %.5f %%\n",
+        name, 100 * a[0].markers(), 100 * a[1].markers(), 100 * a[2].markers(), 100 * a[0].falsePositives(),
+        100 * a[1].falsePositives(), 100 * a[2].falsePositives());
+    for (int v = 0; v < 3; ++v) total[v].add(a[v]);
+    EXPECT_GE(a[1].markers(), a[0].markers() - 0.005) << name << ": strokes";
+    EXPECT_GE(a[2].markers(), a[0].markers() - 0.005) << name << ": polygons moved 1 px";
   }
   EXPECT_GE(total[1].markers(), total[0].markers() - 0.002);
-  std::printf("[ all randomised  ] marker interiors: exact %.3f %%, strokes %.3f %%\n",
-              100 * total[0].markers(), 100 * total[1].markers());
+  EXPECT_GE(total[2].markers(), total[0].markers() - 0.002);
+  std::printf("[ all randomised  ] marker interiors: exact %.3f %%, strokes %.3f %%, moved 1 px %.3f %%\n",
+              100 * total[0].markers(), 100 * total[1].markers(), 100 * total[2].markers());
 }
 
 namespace {
