@@ -470,40 +470,60 @@ TEST(FieldRenderer, ABallBehindARobotIsNotVisible) {
   }
 }
 
+// A robot 2 m from the nadir, and a ball `distance` from its centre on the line away from the
+// nadir (negative: towards it), as a person calibrating may find them.
+struct BallBesideARobot {
+  const CameraModel camera = CameraModel::defaultCamera(kField, 0);
+  const PatternSet patterns = PatternSet::twoTag();
+  const FieldRenderer renderer{camera, kField, patterns, cleanScenario()};
+  const Eigen::Vector2d nadir = camera.cameraCentre().head<2>();
+  const Eigen::Vector2d robot_at = nadir + Eigen::Vector2d(-1.0, -1.7);
+  const Eigen::Vector2d outwards = (robot_at - nadir).normalized();
+
+  SceneState scene(double distance) const {
+    SceneState s;
+    s.robots = {robotState(Team::Blue, 2, robot_at.x(), robot_at.y(), 0.4)};
+    s.balls.resize(1);
+    s.balls[0].x = robot_at.x() + distance * outwards.x();
+    s.balls[0].y = robot_at.y() + distance * outwards.y();
+    return s;
+  }
+  // The samples a user draws on `scene`: the balls nothing hides, or (as the user was once
+  // given them) every ball.
+  ColorSamples painted(const SceneState& scene, bool wholly_visible_only) const {
+    return calibrationSamples(wholly_visible_only ? renderer.withWhollyVisibleBalls(scene) : scene, camera,
+                              kField, patterns, SampleOptions::drawnByUser(2));
+  }
+  // Of the pixels in every ball's polygon, how many show the ball; `total`: all of them.
+  int ballPixels(const SceneState& scene, int& total) const {
+    const cv::Mat labels = renderer.renderLabels(scene);
+    const auto pixels = samplePixelPositions(labels.size(), painted(scene, false));
+    int ball = 0;
+    total = 0;
+    for (const cv::Point& p : pixels.at(ColorClass::Orange)) {
+      ++total;
+      ball += labels.at<std::uint8_t>(p) == static_cast<int>(ColorClass::Orange);
+    }
+    return ball;
+  }
+};
+
 // A person calibrating paints the balls the image shows, and no ball hidden behind a robot:
 // held-out seed 9086's rand_bayer_ssl had its ball's polygon drawn on a robot's black top
 // (the ball behind it), so the table's orange was black, the ball was never found and
 // robots' rims at the image's edge were taken for it (41 false balls).
 TEST(FieldRenderer, APersonCalibratingPaintsNoBallHiddenBehindARobot) {
-  const CameraModel camera = CameraModel::defaultCamera(kField, 0);
-  const PatternSet patterns = PatternSet::twoTag();
-  const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
-  const Eigen::Vector2d nadir = camera.cameraCentre().head<2>();
-  const Eigen::Vector2d robot_at = nadir + Eigen::Vector2d(-1.0, -1.7);
-  const Eigen::Vector2d outwards = (robot_at - nadir).normalized();
-  const double touching = patterns.robot_radius + 0.0215 + 0.002;
-  const SampleOptions user = SampleOptions::drawnByUser(2);
+  const BallBesideARobot b;
+  const double touching = b.patterns.robot_radius + 0.0215 + 0.002;
   for (const double side : {1.0, -1.0}) {  // behind the robot, in front of it
-    SceneState scene;
-    scene.robots = {robotState(Team::Blue, 2, robot_at.x(), robot_at.y(), 0.4)};
-    scene.balls.resize(1);
-    scene.balls[0].x = robot_at.x() + side * outwards.x() * touching;
-    scene.balls[0].y = robot_at.y() + side * outwards.y() * touching;
+    const SceneState scene = b.scene(side * touching);
     const bool visible = side < 0;
-    const ColorSamples painted =
-        calibrationSamples(renderer.withWhollyVisibleBalls(scene), camera, kField, patterns, user);
-    EXPECT_EQ(painted.count(ColorClass::Orange) == 1, visible);
-    EXPECT_EQ(renderer.withWhollyVisibleBalls(scene).robots.size(), 1u);
+    EXPECT_EQ(b.painted(scene, true).count(ColorClass::Orange) == 1, visible);
+    EXPECT_EQ(b.renderer.withWhollyVisibleBalls(scene).robots.size(), 1u);
     // Every ball's polygon, as the user was once given it: the hidden one lies on the top.
-    const ColorSamples all = calibrationSamples(scene, camera, kField, patterns, user);
-    ASSERT_EQ(all.count(ColorClass::Orange), 1u);
-    const cv::Mat labels = renderer.renderLabels(scene);
-    const auto pixels = samplePixelPositions(labels.size(), all);
-    int orange = 0, total = 0;
-    for (const cv::Point& p : pixels.at(ColorClass::Orange)) {
-      ++total;
-      orange += labels.at<std::uint8_t>(p) == static_cast<int>(ColorClass::Orange);
-    }
+    ASSERT_EQ(b.painted(scene, false).count(ColorClass::Orange), 1u);
+    int total = 0;
+    const int orange = b.ballPixels(scene, total);
     ASSERT_GT(total, 0);
     EXPECT_EQ(2 * orange > total, visible) << orange << " of " << total << " polygon pixels show the ball";
   }
@@ -512,43 +532,25 @@ TEST(FieldRenderer, APersonCalibratingPaintsNoBallHiddenBehindARobot) {
 // Nor one partly hidden: the truth counts a ball as visible when half of it shows, but a
 // polygon 2 px inside its outline would then take in the robot hiding the rest.
 TEST(FieldRenderer, APersonCalibratingPaintsNoBallPartlyHiddenBehindARobot) {
-  const CameraModel camera = CameraModel::defaultCamera(kField, 0);
-  const PatternSet patterns = PatternSet::twoTag();
-  const FieldRenderer renderer(camera, kField, patterns, cleanScenario());
-  const Eigen::Vector2d nadir = camera.cameraCentre().head<2>();
-  const Eigen::Vector2d robot_at = nadir + Eigen::Vector2d(-1.0, -1.7);
-  const Eigen::Vector2d outwards = (robot_at - nadir).normalized();
-  SceneState scene;
-  scene.robots = {robotState(Team::Blue, 2, robot_at.x(), robot_at.y(), 0.4)};
-  scene.balls.resize(1);
+  const BallBesideARobot b;
   // Behind the robot, moved away from it until part of the ball shows.
-  double shown = 0;
-  for (double d = patterns.robot_radius + 0.0235; d < 0.5 && !(shown >= 0.5 && shown < 1); d += 0.002) {
-    scene.balls[0].x = robot_at.x() + outwards.x() * d;
-    scene.balls[0].y = robot_at.y() + outwards.y() * d;
-    shown = renderer.ballShown(scene.balls[0], scene.robots);
+  SceneState scene;
+  double shown = 0, d = b.patterns.robot_radius + 0.0235;
+  for (; d < 0.5 && !(shown >= 0.5 && shown < 1); d += 0.002) {
+    scene = b.scene(d);
+    shown = b.renderer.ballShown(scene.balls[0], scene.robots);
   }
   ASSERT_GE(shown, 0.5);
   ASSERT_LT(shown, 1.0);
-  EXPECT_TRUE(renderer.ballVisible(scene.balls[0], scene.robots)) << "the truth counts it";
-  const SampleOptions user = SampleOptions::drawnByUser(2);
-  EXPECT_EQ(calibrationSamples(renderer.withWhollyVisibleBalls(scene), camera, kField, patterns, user)
-                .count(ColorClass::Orange),
-            0u);
+  EXPECT_TRUE(b.renderer.ballVisible(scene.balls[0], scene.robots)) << "the truth counts it";
+  EXPECT_EQ(b.painted(scene, true).count(ColorClass::Orange), 0u);
   // Its whole polygon holds pixels of the robot.
-  const ColorSamples all = calibrationSamples(scene, camera, kField, patterns, user);
-  ASSERT_EQ(all.count(ColorClass::Orange), 1u);
-  const cv::Mat labels = renderer.renderLabels(scene);
-  const auto pixels = samplePixelPositions(labels.size(), all);
-  int other = 0;
-  for (const cv::Point& p : pixels.at(ColorClass::Orange))
-    other += labels.at<std::uint8_t>(p) != static_cast<int>(ColorClass::Orange);
-  EXPECT_GT(other, 0) << "shown " << shown;
+  ASSERT_EQ(b.painted(scene, false).count(ColorClass::Orange), 1u);
+  int total = 0;
+  const int ball = b.ballPixels(scene, total);
+  EXPECT_GT(total - ball, 0) << "shown " << shown;
   // Moved on until nothing hides it, it is painted.
-  scene.balls[0].x += outwards.x() * 0.1;
-  scene.balls[0].y += outwards.y() * 0.1;
-  ASSERT_EQ(renderer.ballShown(scene.balls[0], scene.robots), 1.0);
-  EXPECT_EQ(calibrationSamples(renderer.withWhollyVisibleBalls(scene), camera, kField, patterns, user)
-                .count(ColorClass::Orange),
-            1u);
+  scene = b.scene(d + 0.1);
+  ASSERT_EQ(b.renderer.ballShown(scene.balls[0], scene.robots), 1.0);
+  EXPECT_EQ(b.painted(scene, true).count(ColorClass::Orange), 1u);
 }
