@@ -727,4 +727,9 @@ SceneState FieldRenderer::withWhollyVisibleBalls(const SceneState& scene) const 
   return shown;
 }
 
+ColorSamples FieldRenderer::paintedSamples(const SceneState& scene, const SampleOptions& options) const {
+  const Impl& m = *impl_;
+  return calibrationSamples(withWhollyVisibleBalls(scene), m.camera, m.field, m.patterns, options);
+}
+
 }  // namespace soccer_vision

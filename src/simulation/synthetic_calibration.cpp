@@ -33,9 +33,7 @@ ColorTable calibrateSyntheticCamera(ScenarioConfig scenario, int camera_index,
     // Polygons at the start of the exposure would sample a fast ball's streak at its tail
     // (a blend with the carpet) and the trailing edges of moving markers.
     const SceneState shown = extrapolate(sim.state(), shownTimeAfterStamp(scenario.sensor));
-    images.push_back(
-        {classifiedColors(frame.image, *layout),
-         calibrationSamples(renderer.withWhollyVisibleBalls(shown), renderer.camera(), field, patterns)});
+    images.push_back({classifiedColors(frame.image, *layout), renderer.paintedSamples(shown)});
     for (int k = 0; k < steps_between; ++k) sim.step(1.0 / scenario.fps);
   }
   return calibrateColorTable(images);

@@ -300,8 +300,7 @@ int run(const Options& o) {
       // Colour samples of the calibration frames, as calibrate_synthetic picks them: one
       // frame shows only the robots in view, so a table needs several.
       if (i % calibration_spacing == 0 && i / calibration_spacing < sv::SyntheticCalibration{}.frames) {
-        const auto samples = sv::calibrationSamples(ch.renderer->withWhollyVisibleBalls(shown),
-                                                    ch.renderer->camera(), field, patterns);
+        const auto samples = ch.renderer->paintedSamples(shown);
         sv::writeTextFile(
             dir + "/samples_camera_" + std::to_string(ch.id) + "_frame_" + std::to_string(i) + ".yaml",
             sv::toYaml(samples));
@@ -310,8 +309,7 @@ int run(const Options& o) {
       if (!ch.calibration_written) {
         // The frame a user calibrates the colours on: polygons as drawn on it.
         const sv::SampleOptions drawn = sv::SampleOptions::drawnByUser(o.sample_inset);
-        sv::ColorSamples samples = sv::calibrationSamples(ch.renderer->withWhollyVisibleBalls(shown),
-                                                          ch.renderer->camera(), field, patterns, drawn);
+        sv::ColorSamples samples = ch.renderer->paintedSamples(shown, drawn);
         cv::Mat bgr = sv::bgrOfEncoding(rendered.image, img.encoding);
         const bool automatic = o.calibration_frame == "auto";
         if (automatic) {

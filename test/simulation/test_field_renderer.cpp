@@ -491,8 +491,9 @@ struct BallBesideARobot {
   // The samples a user draws on `scene`: the balls nothing hides, or (as the user was once
   // given them) every ball.
   ColorSamples painted(const SceneState& scene, bool wholly_visible_only) const {
-    return calibrationSamples(wholly_visible_only ? renderer.withWhollyVisibleBalls(scene) : scene, camera,
-                              kField, patterns, SampleOptions::drawnByUser(2));
+    const SampleOptions user = SampleOptions::drawnByUser(2);
+    return wholly_visible_only ? renderer.paintedSamples(scene, user)
+                               : calibrationSamples(scene, camera, kField, patterns, user);
   }
   // Of the pixels in every ball's polygon, how many show the ball; `total`: all of them.
   int ballPixels(const SceneState& scene, int& total) const {

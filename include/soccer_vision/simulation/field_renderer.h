@@ -17,6 +17,7 @@
 #include "soccer_vision/common/color_class.h"
 #include "soccer_vision/common/field_geometry.h"
 #include "soccer_vision/common/robot_pattern.h"
+#include "soccer_vision/simulation/calibration_samples.h"
 #include "soccer_vision/simulation/scenario.h"
 #include "soccer_vision/simulation/scene.h"
 
@@ -84,6 +85,9 @@ class FieldRenderer {
   // The scene with only the balls nothing hides: what a person calibrating paints (a polygon
   // inside a ball partly behind a robot would take in the robot's side or top).
   SceneState withWhollyVisibleBalls(const SceneState& scene) const;
+  // What a person calibrating paints on `scene`: calibrationSamples of this camera, field and
+  // patterns, on withWhollyVisibleBalls(scene). The held-out protocol's one painter.
+  ColorSamples paintedSamples(const SceneState& scene, const SampleOptions& options = {}) const;
 
  private:
   struct Impl;
