@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "soccer_vision/identification/image_footprint.h"
+#include "soccer_vision/segmentation/region_moments.h"
 #include "soccer_vision/segmentation/region_union.h"
 
 namespace soccer_vision {
@@ -33,18 +34,6 @@ namespace {
 // orange is elongated (80 x 30 mm); a team disc whose middle read orange would pass.
 constexpr int kRimSpare = 2;
 constexpr double kRimElongation = 1.5;
-
-// The principal standard deviations (major, minor) [px] of central second moments [px²].
-struct PrincipalDeviations {
-  double major = 0, minor = 0;
-  double elongation() const { return minor > 0 ? major / minor : HUGE_VAL; }
-};
-
-PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02) {
-  const double half_trace = 0.5 * (mu20 + mu02);
-  const double spread = std::sqrt(0.25 * (mu20 - mu02) * (mu20 - mu02) + mu11 * mu11);
-  return {std::sqrt(std::max(0.0, half_trace + spread)), std::sqrt(std::max(0.0, half_trace - spread))};
-}
 
 bool isRimAround(const Region& rim, const cv::Rect& core, double core_elongation, double diameter) {
   const double spare = std::max(static_cast<double>(kRimSpare), 0.5 * diameter);

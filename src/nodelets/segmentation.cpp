@@ -61,6 +61,7 @@ SegmentationParams toSegmentationParams(const SegmentationConfig& c) {
   p.illumination_k = c.illumination_k;
   p.sharpen = c.sharpen;
   p.ball_streaks = c.ball_streaks;
+  p.ball_streak_floor_share = c.ball_streak_floor_share;
   p.regions.morph_kernel = c.morph_kernel;
   p.regions.min_area = c.min_area;
   p.regions.max_area = std::max(c.max_area, c.min_area);
@@ -249,7 +250,8 @@ class SegmentationNodelet : public nodelet::Nodelet {
   std::uint64_t dropped_encoding_ = 0, dropped_bad_image_ = 0, dropped_no_table_ = 0, dropped_error_ = 0;
   std::uint64_t window_dropped_ = 0;
   std::uint64_t windowed_frames_ = 0, illumination_mismatch_ = 0, skipped_by_frame_step_ = 0;
-  std::uint64_t streak_frames_ = 0, streak_regions_ = 0;  // the ball's streak table (ball_streaks)
+  // The ball's streak table (ball_streaks): frames it searched, regions kept and refused.
+  std::uint64_t streak_frames_ = 0, streak_regions_ = 0, streak_refused_ = 0;
   std::uint64_t calibrations_refused_ = 0;
   OnlineCalibrationStatus online_status_;
   std::uint64_t confirmed_unmatched_ = 0;  // confirmed markers whose frame was no longer kept
@@ -572,6 +574,7 @@ void SegmentationNodelet::imageCallback(const sensor_msgs::ImageConstPtr& image)
     if (!result_.global_search) ++windowed_frames_;
     if (result_.streak_windows) ++streak_frames_;
     streak_regions_ += result_.streak_regions;
+    streak_refused_ += result_.streak_refused;
     if (result_.illumination_size_mismatch) ++illumination_mismatch_;
   }
   if (result_.illumination_size_mismatch)
@@ -857,6 +860,7 @@ void SegmentationNodelet::diagnostics(diagnostic_updater::DiagnosticStatusWrappe
   stat.add("frames with search windows", windowed_frames_);
   stat.add("frames with a ball streak window", streak_frames_);
   stat.add("ball streak regions (orange from the streak table)", streak_regions_);
+  stat.add("ball streak regions refused (not on the floor)", streak_refused_);
   stat.add("frames skipped by frame_step", skipped_by_frame_step_);
   stat.add("dropped: unsupported encoding", dropped_encoding_);
   if (!last_bad_encoding_.empty()) stat.add("last unsupported encoding", last_bad_encoding_);

@@ -320,6 +320,12 @@ bool weightedMoments(const FrameClassifier& frame, const cv::Rect& bbox, const c
 
 }  // namespace
 
+PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02) {
+  const double half_trace = 0.5 * (mu20 + mu02);
+  const double spread = std::sqrt(0.25 * (mu20 - mu02) * (mu20 - mu02) + mu11 * mu11);
+  return {std::sqrt(std::max(0.0, half_trace + spread)), std::sqrt(std::max(0.0, half_trace - spread))};
+}
+
 void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Region& r) {
   MomentSums(component).writeTo(r, origin);
 }

@@ -3,6 +3,7 @@
 // so that anti-aliased shapes give their true sub-pixel centroid.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -14,6 +15,14 @@
 namespace soccer_vision {
 
 struct Region;
+
+// The principal standard deviations (major, minor) [px] of central second moments [px²]:
+// a uniform ellipse's semi-axes are twice them.
+struct PrincipalDeviations {
+  double major = 0, minor = 0;
+  double elongation() const { return minor > 0 ? major / minor : HUGE_VAL; }
+};
+PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02);
 
 // Binary moments of a component whose sums are relative to `origin` (label pixels).
 void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Region& r);

@@ -37,6 +37,11 @@ struct SegmentationParams {
   // carpet is found there although the colour table's orange does not reach its mixture.
   // false = off.
   bool ball_streaks = true;
+  // A streak-table region is refused, and the colour table's orange kept in its place, when
+  // less than this share of a ring around it reads as the floor (floor_surround.h): a ball
+  // lies on the carpet, a print on a robot's top. A ball against a wall or a robot keeps
+  // about half; 0 = off.
+  double ball_streak_floor_share = 0.3;
 };
 
 // Region parameters are given for a label image this wide; narrower ones scale them.
@@ -70,6 +75,7 @@ struct SegmentationResult {
   std::uint32_t classified_pixels = 0;      // label pixels classified around the hits
   std::uint32_t streak_windows = 0;         // streak windows searched with the streak table
   std::uint32_t streak_regions = 0;         // orange regions of the streak windows from the streak table
+  std::uint32_t streak_refused = 0;         // streak-table regions refused: not on the floor
   SegmentationTimings timings;
 };
 
@@ -114,8 +120,10 @@ class Segmenter {
   SizedExtractor streak_extractor_;  // orange only, for the streak windows
   // Orange regions of the streak windows from the streak table, replacing the colour
   // table's there.
-  void findBallStreaks(const SegmentationModel& model, const cv::Mat& image, PixelLayout layout,
-                       const std::vector<cv::Rect>& streak_windows, SegmentationResult& out);
+  // `colors`: the frame under the colour table, which tells the floor around a streak.
+  void findBallStreaks(const SegmentationModel& model, const FrameClassifier& colors, const cv::Mat& image,
+                       PixelLayout layout, const std::vector<cv::Rect>& streak_windows,
+                       SegmentationResult& out);
 };
 
 // Whether the stripes searched for a lost ball (SearchPlan::lost_ball_streak_rects) take
