@@ -498,7 +498,14 @@ bool Tracker::unsureOutside(const BallTrack& t, double x, double y) const {
 
 int Tracker::standing(const BallTrack& t) const {
   const auto& s = t.filter.state();
-  if (!confirmed(t) || unsureOutside(t, s(0), s(1))) return 2;  // not output
+  // Not output: unconfirmed, unsure beyond the lines, or a prediction output() withholds as
+  // too uncertain. Such a primary kept a ball measured in play from being the primary, so
+  // recorded and sent as no ball (held-out seed 9093's rand_bayer_ssl: a track kicked out of
+  // an orange object behind the goal coasted for 4 frames while the ball came into view).
+  const bool measured_now = timeline_.now() - t.last_time <= p_.visible_window;
+  if (!confirmed(t) || unsureOutside(t, s(0), s(1)) ||
+      tooUncertain(measured_now, t.filter.covariance().topLeftCorner<2, 2>()))
+    return 2;
   if (!parked(t)) return 0;
   return p_.output_parked_balls ? 1 : 2;
 }

@@ -788,3 +788,32 @@ TEST(Tracker, ABallComingIntoViewIsThePrimaryOverAWithheldOne) {
     EXPECT_EQ(out.unsure_outside_balls, 1);
   }
 }
+
+// Nor is a track coasting beyond max_coast_uncertainty, which output() withholds: on held-out
+// seed 9093's rand_bayer_ssl an orange object behind the goal, measured for a second, then
+// "kicked" into play (a neighbouring fragment), coasted as the primary while the ball came
+// into view, and the ball's first two frames were recorded and sent as no ball.
+TEST(Tracker, ABallComingIntoViewIsThePrimaryOverACoastingOne) {
+  TrackerParams params;
+  params.field = FieldGeometry{};
+  Tracker tracker(params);
+  int k = 0;
+  for (; k < 60; ++k) tracker.update(frame(kT0 + k * kDt, 0, {}, {ball(-1.0 + 0.03 * k, 0.5)}));
+  const TrackerOutput seen = tracker.output();
+  ASSERT_NE(seen.primaryBall(), nullptr);
+  const int coasting = seen.primaryBall()->track_id;
+  // Unseen for 4 frames: 3 sigma of its prediction is beyond 25 mm, so it is withheld.
+  for (int n = 0; n < 4; ++n, ++k) tracker.update(frame(kT0 + k * kDt, 0, {}));
+  const TrackerOutput lost = tracker.output();
+  EXPECT_EQ(lost.primaryBall(), nullptr);
+  EXPECT_EQ(lost.withheld_balls, 1);
+  // The ball comes into view far from it: the primary at once.
+  for (int n = 0; n < 3; ++n, ++k) {
+    const double x = 1.17 - 0.127 * n, y = 2.55;
+    tracker.update(frame(kT0 + k * kDt, 0, {}, {ball(x, y, 0.95)}));
+    const TrackerOutput out = tracker.output();
+    ASSERT_NE(out.primaryBall(), nullptr) << "frame " << n << " of the ball in view";
+    EXPECT_NE(out.primaryBall()->track_id, coasting);
+    EXPECT_NEAR(out.primaryBall()->x, x, 0.01) << "frame " << n;
+  }
+}

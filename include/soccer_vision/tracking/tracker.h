@@ -273,7 +273,8 @@ class Tracker {
   bool confirmed(const BallTrack& t) const;  // in play from the start, or seen often enough
   // At (x, y), outside the playing area with a running confidence below outside_min_confidence.
   bool unsureOutside(const BallTrack& t, double x, double y) const;
-  // For the primary's choice: 0 output and not parked, 1 parked, 2 withheld from output().
+  // For the primary's choice, now: 0 output and not parked, 1 parked, 2 withheld from
+  // output() (unconfirmed, unsure outside, or coasting too uncertain).
   int standing(const BallTrack& t) const;
   bool inPlay(const BallDetection& d) const;
   double rateAt(const BallTrack& t, double now) const;
