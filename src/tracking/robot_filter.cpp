@@ -152,7 +152,7 @@ GateResult RobotFilter::update(const RobotMeasurement& m) {
   const double distance = std::hypot(dx, dy);
   bool position_ok =
       distance <= p_.gate_min_distance || positionDistance2(m.x, m.y, m.lag) <= p_.gate_position_d2;
-  const bool maneuver = !position_ok && p_.maneuver_speed_change > 0 &&
+  const bool maneuver = !position_ok && !m.unsure && p_.maneuver_speed_change > 0 &&
                         distance <= p_.maneuver_speed_change * since_update_ + p_.gate_min_distance;
   if (maneuver) {
     // A velocity jump dv at the last update moves the position by dv * t since then.

@@ -500,8 +500,9 @@ int Tracker::standing(const BallTrack& t) const {
   const auto& s = t.filter.state();
   // Not output: unconfirmed, unsure beyond the lines, or a prediction output() withholds as
   // too uncertain. Such a primary kept a ball measured in play from being the primary, so
-  // recorded and sent as no ball (held-out seed 9093's rand_bayer_ssl: a track kicked out of
-  // an orange object behind the goal coasted for 4 frames while the ball came into view).
+  // recorded and sent as no ball (held-out seed 9093's rand_bayer_ssl: the track of an orange
+  // object behind the goal, kicked into play by a fragment of it, coasted while the ball came
+  // into view).
   const bool measured_now = timeline_.now() - t.last_time <= p_.visible_window;
   if (!confirmed(t) || unsureOutside(t, s(0), s(1)) ||
       tooUncertain(measured_now, t.filter.covariance().topLeftCorner<2, 2>()))

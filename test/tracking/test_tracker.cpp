@@ -464,6 +464,33 @@ TEST(Tracker, AnUnsureDetectionBeginsNoTrackButMeasuresOne) {
   EXPECT_THROW(Tracker{any}, std::invalid_argument);
 }
 
+// Held-out seed 9094's rand_flicker_jpeg: the ball, read partly yellow beside a sky-blue fleck,
+// was "yellow 2" at 0.11 in one frame, 1 m from where the real yellow 2 had left the view
+// 0.18 s before; its track took it as a velocity change (within 8 m/s x 0.2 s) and was
+// output there.
+TEST(Tracker, AnUnsureDetectionIsNoManoeuvreOfACoastingTrack) {
+  Tracker tracker;
+  int k = 0;
+  for (; k < 60; ++k) tracker.update(frame(kT0 + k * kDt, 0, {robot(Team::Yellow, 2, 0.5, 0.4)}));
+  for (int n = 0; n < 11; ++n, ++k) tracker.update(frame(kT0 + k * kDt, 0, {}));
+  RobotDetection phantom = robot(Team::Yellow, 2, -0.13, -0.21);
+  phantom.confidence = 0.11;
+  const TrackerUpdateReport report = tracker.update(frame(kT0 + k * kDt, 0, {phantom}));
+  EXPECT_EQ(report.robots_measured, 0);
+  EXPECT_EQ(report.robot_maneuvers, 0);
+  const TrackedRobot* r = find(tracker.predictions(kT0 + k * kDt), Team::Yellow, 2);
+  ASSERT_NE(r, nullptr);
+  EXPECT_FALSE(r->visible);
+  EXPECT_LT(std::hypot(r->x - 0.5, r->y - 0.4), 0.01);  // still where it was last seen
+  // A sure detection there is the robot, stopped dead: a velocity change.
+  RobotDetection sure = phantom;
+  sure.confidence = 0.9;
+  ++k;
+  EXPECT_EQ(tracker.update(frame(kT0 + k * kDt, 0, {sure})).robots_measured, 1);
+  ASSERT_NE(find(tracker.output(kT0 + k * kDt), Team::Yellow, 2), nullptr);
+  EXPECT_NEAR(find(tracker.output(kT0 + k * kDt), Team::Yellow, 2)->x, -0.13, 0.01);
+}
+
 // ---------------------------------------------------------------- search policy, frame_step
 
 TEST(GlobalSearchPolicy, FiresFirstPeriodicallyOnMissingTargetsNoTracksAndAfterReset) {

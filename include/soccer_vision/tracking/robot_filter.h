@@ -37,7 +37,10 @@
 // (RobotMeasurement::unsure) is never taken as a turn: a detection at confidence 0.05 read
 // from one part of a cut team tag turned a track by 19° for a frame (held-out seed 9071);
 // a real turn seen only by unsure detections restarts the heading after
-// reinit_after_rejections frames, as before manoeuvres were taken.
+// reinit_after_rejections frames, as before manoeuvres were taken. Nor as a velocity change:
+// on held-out seed 9094's rand_flicker_jpeg the ball, read partly yellow beside a
+// sky-blue fleck, was "yellow 2" at confidence 0.11 in one frame, and the track of the real
+// yellow 2, out of view for 0.18 s, jumped 1 m to it and was output there.
 #pragma once
 
 #include <optional>
