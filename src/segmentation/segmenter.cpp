@@ -23,6 +23,9 @@ cv::Rect toLabelRect(const cv::Rect& r, PixelLayout layout) {
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
+// Bayer label rectangle -> the image pixels its quads cover.
+cv::Rect quadsToImage(const cv::Rect& r) { return {r.x * 2, r.y * 2, r.width * 2, r.height * 2}; }
+
 // Label coordinates -> image pixels: quad (x, y) covers pixels 2x..2x+1, centre 2x + 0.5.
 void toImageCoordinates(Region& r) {
   r.cx = 2 * r.cx + 0.5;
@@ -31,7 +34,7 @@ void toImageCoordinates(Region& r) {
   r.mu11 *= 4;
   r.mu02 *= 4;
   r.area *= 4;
-  r.bbox = cv::Rect(r.bbox.x * 2, r.bbox.y * 2, r.bbox.width * 2, r.bbox.height * 2);
+  r.bbox = quadsToImage(r.bbox);
 }
 
 // `windows` clipped to the image, those left empty dropped, into `rects` (image pixels) and
@@ -132,7 +135,7 @@ void Segmenter::findBallStreaks(const SegmentationModel& model, const FrameClass
   }
   if (isBayer(layout)) {
     for (auto& r : streaks) toImageCoordinates(r);
-    for (auto& b : refused) b = cv::Rect(b.x * 2, b.y * 2, b.width * 2, b.height * 2);
+    for (auto& b : refused) b = quadsToImage(b);
   }
   // The colour table's orange regions in those windows are parts of what the streak table
   // finds there (it holds every orange cell): replaced, not counted twice.
