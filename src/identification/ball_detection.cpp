@@ -50,14 +50,12 @@ bool isRimAround(const Region& rim, const cv::Rect& core, double core_elongation
 // but within one diameter of its box, was taken for part of it (held-out seed 9080's
 // rand_bayer_ssl). A region without second moments has only its box.
 bool nearMomentEllipse(const Region& r, const Eigen::Vector2d& pixel, double margin) {
-  const PrincipalDeviations sd = principalDeviations(r.mu20, r.mu11, r.mu02);
-  if (!(sd.major > 0)) return true;
-  const double angle = 0.5 * std::atan2(2 * r.mu11, r.mu20 - r.mu02);
-  const double dx = pixel.x() - r.cx, dy = pixel.y() - r.cy;
-  const double along = std::cos(angle) * dx + std::sin(angle) * dy;
-  const double across = -std::sin(angle) * dx + std::cos(angle) * dy;
-  const double a = 2 * sd.major + margin, b = 2 * sd.minor + margin;
-  return (along / a) * (along / a) + (across / b) * (across / b) <= 1.0;
+  const MomentEllipse e = momentEllipse(r, margin);
+  if (!(e.sd.major > 0)) return true;
+  const double dx = pixel.x() - e.cx, dy = pixel.y() - e.cy;
+  const double along = std::cos(e.angle) * dx + std::sin(e.angle) * dy;
+  const double across = -std::sin(e.angle) * dx + std::cos(e.angle) * dy;
+  return (along / e.a) * (along / e.a) + (across / e.b) * (across / e.b) <= 1.0;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "soccer_vision/segmentation/region_moments.h"
+
 namespace soccer_vision {
 
 std::optional<Eigen::Matrix2d> pixelToPlaneJacobian(const CameraModel& camera, const Eigen::Vector2d& pixel,
@@ -51,7 +53,7 @@ std::optional<PlaneRegion> projectToPlane(const Region& region, const CameraMode
   // Closed-form eigen decomposition of the symmetric 2x2 moment matrix.
   const double a = out.covariance(0, 0), b = out.covariance(0, 1), c = out.covariance(1, 1);
   const double mean = (a + c) / 2, radius = std::hypot((a - c) / 2, b);
-  out.minor_axis_angle = 0.5 * std::atan2(2 * b, a - c) + M_PI / 2;  // major axis + 90°
+  out.minor_axis_angle = majorAxisAngle(a, b, c) + M_PI / 2;
   const double lo = std::max(mean - radius, 1e-18), hi = std::max(mean + radius, 1e-18);
   out.elongation = std::sqrt(hi / lo);
   return out;

@@ -79,7 +79,7 @@ struct MomentSums {
     r.mu20 = xx / w - mx * mx;
     r.mu11 = xy / w - mx * my;
     r.mu02 = yy / w - my * my;
-    r.orientation = 0.5 * std::atan2(2 * r.mu11, r.mu20 - r.mu02);
+    r.orientation = majorAxisAngle(r.mu20, r.mu11, r.mu02);
   }
 };
 
@@ -324,6 +324,21 @@ PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02) {
   const double half_trace = 0.5 * (mu20 + mu02);
   const double spread = std::sqrt(0.25 * (mu20 - mu02) * (mu20 - mu02) + mu11 * mu11);
   return {std::sqrt(std::max(0.0, half_trace + spread)), std::sqrt(std::max(0.0, half_trace - spread))};
+}
+
+double majorAxisAngle(double mu20, double mu11, double mu02) {
+  return 0.5 * std::atan2(2 * mu11, mu20 - mu02);
+}
+
+MomentEllipse momentEllipse(const Region& r, double margin) {
+  MomentEllipse e;
+  e.cx = r.cx;
+  e.cy = r.cy;
+  e.angle = majorAxisAngle(r.mu20, r.mu11, r.mu02);
+  e.sd = principalDeviations(r.mu20, r.mu11, r.mu02);
+  e.a = 2 * e.sd.major + margin;
+  e.b = 2 * e.sd.minor + margin;
+  return e;
 }
 
 void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Region& r) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "soccer_vision/segmentation/region_moments.h"
+
 namespace soccer_vision {
 
 Region regionUnion(const std::vector<const Region*>& parts) {
@@ -29,7 +31,7 @@ Region regionUnion(const std::vector<const Region*>& parts) {
   u.area = static_cast<std::uint32_t>(area);
   u.cx = cx;
   u.cy = cy;
-  u.orientation = 0.5 * std::atan2(2 * u.mu11, u.mu20 - u.mu02);
+  u.orientation = majorAxisAngle(u.mu20, u.mu11, u.mu02);
   return u;
 }
 

@@ -23,6 +23,17 @@ struct PrincipalDeviations {
   double elongation() const { return minor > 0 ? major / minor : HUGE_VAL; }
 };
 PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02);
+// The major axis' angle [rad] of central second moments: 0.5 atan2(2 mu11, mu20 - mu02).
+double majorAxisAngle(double mu20, double mu11, double mu02);
+
+// A region's moment ellipse about its centroid, along its major axis: semi-axes a and b
+// twice its principal standard deviations (a uniform ellipse's own outline) grown by `margin`.
+struct MomentEllipse {
+  double cx = 0, cy = 0, angle = 0;
+  PrincipalDeviations sd;
+  double a = 0, b = 0;
+};
+MomentEllipse momentEllipse(const Region& r, double margin);
 
 // Binary moments of a component whose sums are relative to `origin` (label pixels).
 void writeBinaryMoments(const ComponentStats& component, cv::Point origin, Region& r);
