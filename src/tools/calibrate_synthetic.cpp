@@ -1,13 +1,15 @@
 // calibrate_synthetic: the colour table of the built-in synthetic camera, calibrated
 // exactly as a team calibrates a real one (calibrate_colors' method) on frames of the first
-// seconds of a scenario (6 frames, 1.5 s apart), with the simulator's sample polygons (markers, ball, carpet,
-// lines, robot tops) instead of hand-drawn ones. The demo launch runs it at start-up so that the pipeline has
-// a table without any file shipped.
+// seconds of a scenario (24 frames, 0.375 s apart), with the simulator's sample polygons (markers, ball,
+// carpet, lines, robot tops) instead of hand-drawn ones. The demo launch runs it at start-up so that the
+// pipeline has a table without any file shipped.
 //
 //   rosrun soccer_vision calibrate_synthetic --out table.svct [--scenario NAME|FILE.yaml]
 //       [--camera 0] [--width W --height H]
 //   rosrun soccer_vision calibrate_synthetic --out PREFIX --cameras N ...   (cameras 0..N-1 of the
 //       scenario's layout, each on its own thread, to PREFIX_<n>.svct: the demo's start-up)
+//   ... --remove-on-exit   (stay until SIGINT, SIGTERM or SIGHUP, then remove the tables: the
+//       demo's start-up tables live as long as its launch and leave nothing behind)
 // (also --key=value; an empty --scenario= is the embedded scenario; roslaunch's __name:=
 // remappings are ignored)
 //
@@ -15,11 +17,14 @@
 // reads each 2x2 quad as one colour). The file is written to a temporary name and renamed,
 // so a reader never sees half a table. Exit status 0, or 2 with a message.
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <future>
 #include <iostream>
 #include <optional>
+#include <pthread.h>
+#include <signal.h>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -38,6 +43,7 @@ namespace {
 struct Options {
   std::string out, scenario;
   int camera = 0, cameras = 0, width = 0, height = 0;
+  bool remove_on_exit = false;
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -52,6 +58,19 @@ void addOptions(CLI::App& app, Options& o) {
       ->excludes(one);
   app.add_option("--width", o.width, "[px] image width; 0: the scenario's")->check(CLI::Range(0, 16384));
   app.add_option("--height", o.height, "[px] image height; 0: the scenario's")->check(CLI::Range(0, 16384));
+  app.add_flag("--remove-on-exit", o.remove_on_exit,
+               "stay until SIGINT, SIGTERM or SIGHUP (roslaunch's shutdown), then remove the tables written");
+}
+
+// The signals that end a launch. Blocked before any thread starts (threads inherit the mask),
+// so that only sigwait takes them.
+sigset_t endingSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  return set;
 }
 
 }  // namespace
@@ -62,6 +81,8 @@ int main(int argc, char** argv) {
                "calibrate_synthetic"};
   addOptions(app, o);
   if (const auto status = sv::parseLaunchedCommandLine(app, argc, argv)) return *status;
+  const sigset_t ending = endingSignals();
+  if (o.remove_on_exit) pthread_sigmask(SIG_BLOCK, &ending, nullptr);
   try {
     const std::string path = sv::resolveScenarioPath(o.scenario);
     sv::ScenarioConfig scenario = path.empty() ? sv::ScenarioConfig{} : sv::loadScenario(path);
@@ -92,6 +113,12 @@ int main(int argc, char** argv) {
           "Bayes\n",
           jobs[i].first, scenario.name.empty() ? "embedded default" : scenario.name.c_str(), scenario.width,
           scenario.height, jobs[i].second.c_str(), overlap);
+    }
+    if (o.remove_on_exit) {
+      std::fflush(stdout);
+      int signal = 0;
+      sigwait(&ending, &signal);
+      for (const auto& job : jobs) std::remove(job.second.c_str());
     }
     return 0;
   } catch (const std::exception& e) {

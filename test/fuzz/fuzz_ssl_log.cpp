@@ -11,9 +11,19 @@
 #include "ssl_vision_wrapper.pb.h"
 #include "ssl_vision_wrapper_tracked.pb.h"
 
+namespace {
+
+// One scratch file per process (the reader takes a path, as the tools do), removed at exit.
+struct ScratchFile {
+  const std::string path = "/tmp/soccer_vision_fuzz_ssl_log_" + std::to_string(getpid()) + ".log";
+  ~ScratchFile() { std::remove(path.c_str()); }
+};
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // One scratch file per process: the reader takes a path, as the tools do.
-  static const std::string path = "/tmp/soccer_vision_fuzz_ssl_log_" + std::to_string(getpid()) + ".log";
+  static const ScratchFile scratch;
+  const std::string& path = scratch.path;
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
