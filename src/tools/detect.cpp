@@ -28,6 +28,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "frame_json.h"
 #include "soccer_vision/common/camera_info_yaml.h"
 #include "soccer_vision/common/camera_pose_file.h"
 #include "soccer_vision/common/class_colors.h"
@@ -74,8 +75,6 @@ cv::Scalar drawColor(sv::ColorClass c) {
   const double scale = 255.0 / std::max({a[0], a[1], a[2], 1.0f});
   return cv::Scalar(a[0] * scale, a[1] * scale, a[2] * scale);
 }
-
-json nullable(bool valid, double value) { return valid ? json(value) : json(nullptr); }
 
 void drawOverlay(cv::Mat& canvas, const sv::SegmentationResult& seg, const sv::CameraFrameDetections& d,
                  const sv::CameraModel& camera, const sv::FieldGeometry& field, bool have_pose) {
@@ -136,43 +135,22 @@ int run(const Options& o) {
   const sv::FrameIdentifier identifier(camera, patterns, field);
   const sv::CameraFrameDetections d = identifier.identify(seg.regions);
 
-  json out;
-  out["blobs"] = json::array();
-  for (const sv::Region& r : seg.regions) {
-    out["blobs"].push_back(
-        {{"color", std::string(sv::colorClassName(r.color))}, {"area", r.area}, {"cx", r.cx}, {"cy", r.cy}});
-  }
-  out["robots"] = json::array();
+  json out = sv::detectionsJson(d, have_pose);
+  out["blobs"] = sv::regionsJson(seg.regions);
   std::printf("%zu regions, %zu robots, %zu balls%s\n", seg.regions.size(), d.robots.size(), d.balls.size(),
               have_pose ? "" : " (no --camera-pose: image positions only)");
   for (const sv::RobotDetection& r : d.robots) {
-    out["robots"].push_back({{"team", std::string(sv::teamName(r.team))},
-                             {"id", r.id},
-                             {"x", nullable(have_pose, r.x)},
-                             {"y", nullable(have_pose, r.y)},
-                             {"theta", nullable(have_pose && r.heading_valid, r.theta)},
-                             {"u", r.pixel.x()},
-                             {"v", r.pixel.y()},
-                             {"confidence", r.confidence}});
     std::printf("  robot %-6s %3d  u %8.2f v %8.2f", std::string(sv::teamName(r.team)).c_str(), r.id,
                 r.pixel.x(), r.pixel.y());
     if (have_pose) std::printf("  x %7.3f y %7.3f", r.x, r.y);
     if (have_pose && r.heading_valid) std::printf(" theta %7.2f deg", r.theta * 180 / M_PI);
     std::printf("  confidence %.3f\n", r.confidence);
   }
-  out["balls"] = json::array();
   for (const sv::BallDetection& b : d.balls) {
-    out["balls"].push_back({{"x", nullable(have_pose, b.x)},
-                            {"y", nullable(have_pose, b.y)},
-                            {"u", b.pixel.x()},
-                            {"v", b.pixel.y()},
-                            {"confidence", b.confidence}});
     std::printf("  ball         u %8.2f v %8.2f", b.pixel.x(), b.pixel.y());
     if (have_pose) std::printf("  x %7.3f y %7.3f", b.x, b.y);
     std::printf("  confidence %.3f\n", b.confidence);
   }
-  out["rejections"] = json::object();
-  for (const auto& [name, count] : d.rejections.named(false)) out["rejections"][name] = count;
   std::printf("rejected: %s\n", d.rejections.summary().c_str());
 
   if (!o.json_out.empty()) {

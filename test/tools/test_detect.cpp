@@ -141,12 +141,19 @@ TEST_F(Detect, FindsEveryRobotAndTheBallAtTheirProjectionsWithAPose) {
   ASSERT_EQ(r.status, 0) << r.output;
   std::printf("%s", r.output.c_str());
   const json j = readJson(out);
-  EXPECT_EQ(keys(j), (std::set<std::string>{"blobs", "robots", "balls", "rejections"}));
+  EXPECT_EQ(keys(j), (std::set<std::string>{"blobs", "robots", "balls", "rejections", "rejected_robots"}));
   ASSERT_GT(j["blobs"].size(), 2 * scene_.robots.size());
   for (const json& b : j["blobs"]) {
-    EXPECT_EQ(keys(b), (std::set<std::string>{"color", "area", "cx", "cy"}));
+    EXPECT_EQ(keys(b), (std::set<std::string>{"color", "area", "cx", "cy", "box", "sd", "angle"}));
+    EXPECT_GE(b["sd"][0].get<double>(), b["sd"][1].get<double>()) << b.dump();
     EXPECT_TRUE(b["color"].is_string());
     EXPECT_GT(b["area"].get<double>(), 0);
+    // The centroid lies inside the bounding box.
+    ASSERT_EQ(b["box"].size(), 4u);
+    EXPECT_GE(b["cx"].get<double>(), b["box"][0].get<double>()) << b.dump();
+    EXPECT_LE(b["cx"].get<double>(), b["box"][0].get<double>() + b["box"][2].get<double>()) << b.dump();
+    EXPECT_GE(b["cy"].get<double>(), b["box"][1].get<double>()) << b.dump();
+    EXPECT_LE(b["cy"].get<double>(), b["box"][1].get<double>() + b["box"][3].get<double>()) << b.dump();
   }
   for (const json& robot : j["robots"]) {
     EXPECT_EQ(keys(robot), (std::set<std::string>{"team", "id", "x", "y", "theta", "u", "v", "confidence"}));
@@ -164,7 +171,8 @@ TEST_F(Detect, FindsEveryRobotAndTheBallAtTheirProjectionsWithAPose) {
   }
   ASSERT_EQ(j["balls"].size(), 1u);
   const json& ball = j["balls"][0];
-  EXPECT_EQ(keys(ball), (std::set<std::string>{"x", "y", "u", "v", "confidence"}));
+  EXPECT_EQ(keys(ball), (std::set<std::string>{"x", "y", "u", "v", "area", "confidence"}));
+  EXPECT_GT(ball["area"].get<double>(), 0);
   const double ball_px =
       (Eigen::Vector2d(ball["u"].get<double>(), ball["v"].get<double>()) - pixelOf(scene_.balls[0])).norm();
   EXPECT_LT(ball_px, 1.0);
@@ -175,6 +183,11 @@ TEST_F(Detect, FindsEveryRobotAndTheBallAtTheirProjectionsWithAPose) {
   // Every cause has a count; this clean frame rejects nothing of the scene.
   EXPECT_EQ(j["rejections"].size(), static_cast<std::size_t>(kNumRejectionCauses));
   EXPECT_EQ(j["rejections"]["area"], 0);
+  // Each rejected candidate is one of the counted rejections, with its cause.
+  long counted = 0;
+  for (const auto& [cause, n] : j["rejections"].items()) counted += n.get<long>();
+  EXPECT_LE(j["rejected_robots"].size(), static_cast<std::size_t>(counted));
+  for (const json& c : j["rejected_robots"]) EXPECT_GT(j["rejections"][c["cause"].get<std::string>()], 0);
   const cv::Mat o = cv::imread(overlay, cv::IMREAD_COLOR);
   ASSERT_EQ(o.size(), cv::Size(camera().width(), camera().height()));
   // The field lines drawn in magenta through the pose: the centre circle's pixels.

@@ -4,6 +4,7 @@
 // wrong id and one displaced robot the misses and false positives they are); images of
 // an unsupported encoding or truncated are skipped with a count, not a crash; bad
 // inputs exit with status 2 and a message naming the problem.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -81,7 +82,8 @@ class Evaluate : public ::testing::Test {
 
 TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
   const ToolRun r = run("--bag " + kDir + "/s.bag --results " + kDir + "/results.jsonl --json " + kDir +
-                        "/report.json --plots " + kDir + "/plots --misses " + kDir + "/misses.jsonl");
+                        "/report.json --plots " + kDir + "/plots --misses " + kDir +
+                        "/misses.jsonl --trace " + kDir + "/trace.jsonl");
   ASSERT_EQ(r.status, 0) << r.output;
   std::printf("%s", r.output.c_str());
   const json report = readJson(kDir + "/report.json");
@@ -135,6 +137,51 @@ TEST_F(Evaluate, InProcessRunMeetsTheTargetsAndWritesEveryFrame) {
     std::ifstream f(kDir + "/plots/" + png + ".png");
     EXPECT_TRUE(f.good()) << png;
   }
+
+  // --trace: a line per processed frame, in the results' order; the ball candidates where the
+  // ball truly was, on an orange region; what consumers got is what the results hold, and a
+  // track output as visible was measured at that very stamp.
+  const std::vector<FrameRecord> written = readJsonLines(kDir + "/results.jsonl");
+  const std::vector<FrameRecord> truth = readJsonLines(kDir + "/truth.jsonl");
+  std::ifstream trace(kDir + "/trace.jsonl");
+  std::size_t frame = 0;
+  int balls_in_view = 0, candidates_on_the_ball = 0;
+  for (std::string line; std::getline(trace, line); ++frame) {
+    const json t = json::parse(line);
+    ASSERT_LT(frame, written.size());
+    EXPECT_DOUBLE_EQ(t["stamp"].get<double>(), written[frame].stamp);
+    EXPECT_EQ(t["image"].get<std::size_t>(), frame);
+    EXPECT_EQ(t["camera"].get<int>(), 0);
+    EXPECT_TRUE(t["search"] == "global" || t["search"] == "windows") << t["search"];
+    EXPECT_EQ(t["output"]["robots"].size(), written[frame].robots.size());
+    EXPECT_EQ(t["output"]["balls"].size(), written[frame].balls.size());
+    for (const json& out : t["output"]["robots"]) {
+      if (!out["visible"].get<bool>()) continue;
+      bool measured_now = false;
+      for (const json& track : t["tracks"]["robots"])
+        measured_now |= track["track"] == out["track"] && track["unseen_s"].get<double>() < 1e-9;
+      EXPECT_TRUE(measured_now) << "frame " << frame << ": " << out.dump();
+    }
+    ASSERT_LT(frame, truth.size());
+    ASSERT_DOUBLE_EQ(truth[frame].stamp, t["stamp"].get<double>());
+    for (const BallRecord& b : truth[frame].balls) {
+      if (!b.visible.value_or(true)) continue;
+      ++balls_in_view;
+      for (const json& c : t["detections"]["balls"]) {
+        if (std::hypot(c["x"].get<double>() - b.x, c["y"].get<double>() - b.y) > 0.01) continue;
+        bool on_orange = false;
+        for (const json& r : t["regions"])
+          on_orange |=
+              r["color"] == "orange" && std::hypot(r["cx"].get<double>() - c["u"].get<double>(),
+                                                   r["cy"].get<double>() - c["v"].get<double>()) < 5.0;
+        candidates_on_the_ball += on_orange;
+        break;
+      }
+    }
+  }
+  EXPECT_EQ(frame, written.size());
+  EXPECT_GT(balls_in_view, kFrames / 2);
+  EXPECT_GE(candidates_on_the_ball, 0.99 * balls_in_view);
 
   // Scoring the written results again, results-only, gives the same figures (the file
   // keeps 0.1 mm: the RMSE agrees to a fraction of that).

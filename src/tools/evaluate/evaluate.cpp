@@ -12,7 +12,8 @@
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--no-ball-streaks]
 //       [--skip-table2]
 //       [--measurement-offset S[,S1]]
-//       [--sweep] [--results out.jsonl] [--json report.json] [--plots DIR]
+//       [--sweep] [--results out.jsonl] [--misses m.jsonl] [--trace t.jsonl] [--json report.json] [--plots
+//       DIR]
 //       [--markdown section.md [--title TEXT]]
 //   rosbag-less:  evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)
 //       [--json report.json] [--plots DIR]
@@ -68,6 +69,7 @@
 
 #include "evaluate_report.h"
 #include "evaluation_plots.h"
+#include "frame_json.h"
 #include "soccer_vision/calibration/camera_pose_solver.h"
 #include "soccer_vision/calibration/color_calibration.h"
 #include "soccer_vision/calibration/field_line_calibration.h"
@@ -89,8 +91,8 @@ using nlohmann::json;
 namespace {
 
 struct Options {
-  std::string bag, truth, results, misses, json, plots, markdown, title, patterns = "two_tag",
-                                                                         field = "div_b";
+  std::string bag, truth, results, misses, trace, json, plots, markdown, title, patterns = "two_tag",
+                                                                                field = "div_b";
   std::vector<std::string> colors, samples, calibration_images, field_points, camera_poses;
   std::vector<std::string> more_samples;    // CAMERA:FRAME:FILE
   std::vector<double> measurement_offsets;  // [s]
@@ -113,6 +115,9 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option(
       "--misses", o.misses,
       "write every visible robot a frame did not measure (stamp, camera, robot, cause, pixel), JSON Lines");
+  app.add_option("--trace", o.trace,
+                 "write what the pipeline saw in every frame (regions, detections, rejections, tracks), JSON "
+                 "Lines");
   app.add_option("--json", o.json, "write the report as JSON");
   app.add_option("--plots", o.plots, "write the report's figures (PNG) into this directory");
   app.add_option("--markdown", o.markdown, "write the report as a Markdown section");
@@ -179,6 +184,7 @@ std::string combinationProblem(const Options& o) {
   if (!o.more_samples.empty() && (!o.colors.empty() || !o.calibration_images.empty()))
     return "--more-samples are on frames of the bag: not with --colors or --calibration-image";
   if (o.results_only && !o.misses.empty()) return "--misses needs a run of the pipeline, not --results-only";
+  if (o.results_only && !o.trace.empty()) return "--trace needs a run of the pipeline, not --results-only";
   if (!o.field_points.empty() && !o.camera_poses.empty())
     return "give --field-points or --camera-pose, not both";
   return "";
@@ -399,9 +405,12 @@ struct Setup {
   sv::BagImageProblems problems;
 };
 
-RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLinesWriter* results) {
+// `results` and `trace`, when given, get a line per processed frame.
+RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLinesWriter* results,
+             std::ostream* trace = nullptr) {
   sv::VisionPipeline pipeline(setup.cameras, setup.patterns, setup.field, params);
   RunStats s;
+  std::map<int, std::int64_t> image_index;  // per camera: the bag's image number
   s.measured = sv::MeasuredRateCounter(setup.patterns);
   std::vector<int> ids;
   for (const auto& c : setup.cameras) ids.push_back(c.id);
@@ -411,6 +420,7 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
       [&](const sv::BagCamera& camera, const sensor_msgs::Image& msg, const cv::Mat& image,
           sv::PixelLayout layout) {
         ++s.images;
+        const std::int64_t index = image_index[camera.id]++;
         const sv::PipelineCamera& pc = *pipeline.camera(camera.id);
         if (layout != pc.layout || image.cols != pc.model.width() || image.rows != pc.model.height()) {
           ++setup.problems.other_format;  // not what the camera's calibration was made for
@@ -430,6 +440,11 @@ RunStats run(Setup& setup, const sv::VisionPipelineParams& params, sv::JsonLines
         s.total.push_back(f.times.total());
         const sv::FrameRecord record = sv::toFrameRecord(f.output);
         if (results) results->write(record);
+        if (trace) {
+          json line = sv::frameTraceJson(f, pipeline.tracker());
+          line["image"] = index;
+          *trace << line.dump() << "\n";
+        }
         const sv::FrameRecord* truth = setup.truth ? setup.truth->at(stamp) : nullptr;
         if (!truth) {
           s.evaluation.addUnscored();
@@ -710,7 +725,13 @@ int evaluateBag(const Options& o) {
 
   std::unique_ptr<sv::JsonLinesWriter> results;
   if (!o.results.empty()) results = std::make_unique<sv::JsonLinesWriter>(o.results);
-  const RunStats main = run(setup, params, results.get());
+  std::ofstream trace;
+  if (!o.trace.empty()) {
+    trace.open(o.trace);
+    if (!trace) throw std::runtime_error(o.trace + ": cannot write the trace");
+  }
+  const RunStats main = run(setup, params, results.get(), o.trace.empty() ? nullptr : &trace);
+  if (!o.trace.empty() && !trace.flush()) throw std::runtime_error(o.trace + ": cannot write the trace");
   if (main.processed == 0) throw std::invalid_argument(o.bag + ": no frame could be processed");
 
   std::printf(
