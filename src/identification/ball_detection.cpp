@@ -65,6 +65,9 @@ bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Cluster
   const Eigen::Vector2d& pixel = cluster.pixel;
   if (params_.blob_area_ratio <= 0) return false;
   for (const Region& r : regions) {
+    const BandShape band = bandShape(r);
+    if (band.width < params_.line_max_width * diameter && band.length > params_.line_min_length * diameter)
+      continue;  // a line, its fringe, a cable
     // Distance from the centre to the region's bounding box.
     const double dx = std::max({r.bbox.x - pixel.x(), 0.0, pixel.x() - (r.bbox.x + r.bbox.width)});
     const double dy = std::max({r.bbox.y - pixel.y(), 0.0, pixel.y() - (r.bbox.y + r.bbox.height)});

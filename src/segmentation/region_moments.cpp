@@ -330,6 +330,13 @@ double majorAxisAngle(double mu20, double mu11, double mu02) {
   return 0.5 * std::atan2(2 * mu11, mu20 - mu02);
 }
 
+BandShape bandShape(const Region& r) {
+  const double spread = 12 * (r.mu20 + r.mu02);
+  if (!(spread > 0)) return {};
+  const double length = std::sqrt(spread);
+  return {length, r.area / length};
+}
+
 MomentEllipse momentEllipse(const Region& r, double margin) {
   MomentEllipse e;
   e.cx = r.cx;

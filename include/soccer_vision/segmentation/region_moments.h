@@ -26,6 +26,16 @@ PrincipalDeviations principalDeviations(double mu20, double mu11, double mu02);
 // The major axis' angle [rad] of central second moments: 0.5 atan2(2 mu11, mu20 - mu02).
 double majorAxisAngle(double mu20, double mu11, double mu02);
 
+// A region taken for a band of even width along a curve (a line, its colour fringe, a
+// cable): a band of length L varies about its centroid by at most L^2 / 12 (a straight one:
+// exactly), so `length` = sqrt(12 (mu20 + mu02)) is L or less and `width` = area / length is
+// the band's width or more. Exact for a long straight band; a w x h rectangle gives its
+// diagonal and w h / diagonal, a disc 1.22 and 0.64 of its diameter. Both 0 without moments.
+struct BandShape {
+  double length = 0, width = 0;  // px
+};
+BandShape bandShape(const Region& r);
+
 // A region's moment ellipse about its centroid, along its major axis: semi-axes a and b
 // twice its principal standard deviations (a uniform ellipse's own outline) grown by `margin`.
 struct MomentEllipse {
