@@ -42,6 +42,13 @@ const char* rejectionCauseName(RejectionCause cause) {
   return "unknown";
 }
 
+std::optional<RejectionCause> parseRejectionCause(std::string_view name) {
+  for (int c = 0; c < kNumRejectionCauses; ++c) {
+    if (name == rejectionCauseName(static_cast<RejectionCause>(c))) return static_cast<RejectionCause>(c);
+  }
+  return std::nullopt;
+}
+
 std::vector<std::pair<const char*, long>> RejectionCounts::named(bool counted_only) const {
   std::vector<std::pair<const char*, long>> out;
   for (int i = 0; i < kNumRejectionCauses; ++i) {

@@ -227,6 +227,8 @@ void TrackingNodelet::reconfigure(TrackingConfig& config, uint32_t /*level*/) {
   search.global_search.period_frames = config.global_search_period;
   search.sweep = config.global_search_sweep;
   search.lost_ball_sweep_streaks = config.lost_ball_sweep_streaks;
+  search.candidate_frames = config.candidate_frames;
+  search.max_candidates = config.max_candidates;
   search.search_windows = config.search_windows;
   try {
     validate(search);  // all cameras take the same parameters: check once, then apply
@@ -305,7 +307,7 @@ void TrackingNodelet::detectionsCallback(Camera& camera, const CameraDetectionsC
                             static_cast<unsigned long>(tracker_.stats().resets));
       for (auto& c : cameras_) c->planner.restart();
     }
-    camera.planner.observe(report, frame.stamp, msg->global_search);
+    camera.planner.observe(report, frame.stamp, msg->global_search, frame.rejected_robots);
     if (!report.processed()) return;  // late or invalid frame: nothing new to publish
     out = tracker_.output(frame.stamp);
     withheld_robots_ += out.withheld_robots;

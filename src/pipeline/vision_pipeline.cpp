@@ -134,7 +134,7 @@ PipelineFrame VisionPipeline::process(int camera_id, const cv::Mat& image, doubl
   if (report.reset()) {
     for (CameraState& s : state_) s.planner.restart();
   }
-  state.planner.observe(report, stamp, frame.global_search);
+  state.planner.observe(report, stamp, frame.global_search, frame.detections.rejected_robots);
   frame.output = tracker_.output(stamp);
   state.next = state.planner.plan(tracker_, &camera.model, stamp);
   const auto t2 = Clock::now();

@@ -68,6 +68,15 @@ void toCameraDetections(const CameraFrameDetections& detections, const std_msgs:
     b.visible = true;
     out.balls.push_back(b);
   }
+  out.rejected_robots.clear();
+  out.rejected_robots.reserve(detections.rejected_robots.size());
+  for (const RejectedRobotCandidate& r : detections.rejected_robots) {
+    RobotCandidate c;
+    c.u = static_cast<float>(r.u);
+    c.v = static_cast<float>(r.v);
+    c.cause = rejectionCauseName(r.cause);
+    out.rejected_robots.push_back(c);
+  }
 }
 
 CameraFrameDetections fromCameraDetections(const CameraDetections& msg) {
@@ -93,6 +102,10 @@ CameraFrameDetections fromCameraDetections(const CameraDetections& msg) {
     ball.z = b.z;
     ball.confidence = b.confidence;
     d.balls.push_back(ball);
+  }
+  for (const RobotCandidate& c : msg.rejected_robots) {
+    // Another node's cause names may differ: a candidate of an unknown cause is left out.
+    if (const auto cause = parseRejectionCause(c.cause)) d.rejected_robots.push_back({c.u, c.v, *cause});
   }
   return d;
 }

@@ -10,6 +10,8 @@ void validate(const SearchPlannerParams& p) {
   if (p.entry_band_px < 0) throw std::invalid_argument("entry_band_px must be >= 0");
   if (!(p.ball_streak_intervals >= 0) || !std::isfinite(p.ball_streak_intervals))
     throw std::invalid_argument("ball_streak_intervals must be finite and >= 0");
+  if (p.candidate_frames < 0) throw std::invalid_argument("candidate_frames must be >= 0");
+  if (p.max_candidates < 0) throw std::invalid_argument("max_candidates must be >= 0");
   validate(p.global_search);
   validate(p.windows);
 }
@@ -72,9 +74,32 @@ void SearchPlanner::setParams(const SearchPlannerParams& params) {
   policy_.setParams(policyParams(params));
 }
 
-void SearchPlanner::observe(const TrackerUpdateReport& report, double stamp, bool searched_whole) {
+bool lookAgainAt(const RejectedRobotCandidate& c) {
+  return c.cause != RejectionCause::Projection && c.cause != RejectionCause::Unpaired && std::isfinite(c.u) &&
+         std::isfinite(c.v);
+}
+
+void SearchPlanner::observe(const TrackerUpdateReport& report, double stamp, bool searched_whole,
+                            const std::vector<RejectedRobotCandidate>& rejected) {
   policy_.observe(report, searched_whole);
-  if (!report.processed()) return;  // a late or invalid frame says nothing of the rate
+  if (!report.processed()) return;          // a late or invalid frame says nothing of the rate
+  if (report.reset()) candidates_.clear();  // seen on the old time line
+  for (Candidate& c : candidates_) --c.frames_left;
+  for (const RejectedRobotCandidate& r : rejected) {
+    if (!lookAgainAt(r) || params_.candidate_frames == 0) continue;
+    const Eigen::Vector2d pixel(r.u, r.v);
+    // Rejected again where it was looked for (within a quarter window): the same candidate.
+    auto same = std::find_if(candidates_.begin(), candidates_.end(), [&](const Candidate& c) {
+      return (c.pixel - pixel).norm() <= 0.25 * params_.windows.side_px;
+    });
+    if (same != candidates_.end())
+      *same = {pixel, params_.candidate_frames};
+    else if (static_cast<int>(candidates_.size()) < params_.max_candidates)
+      candidates_.push_back({pixel, params_.candidate_frames});
+  }
+  candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(),
+                                   [](const Candidate& c) { return c.frames_left <= 0; }),
+                    candidates_.end());
   if (last_stamp_ > 0 && stamp > last_stamp_) {
     const double dt = stamp - last_stamp_;
     interval_ = interval_ > 0 ? 0.9 * interval_ + 0.1 * dt : dt;
@@ -99,6 +124,13 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   if (plan.global_search) return plan;
   plan.rects = windowRects(plan.windows);
   const cv::Size image(camera->width(), camera->height());
+  for (const Candidate& c : candidates_) {
+    const int half = params_.windows.side_px / 2;
+    const cv::Rect around = cv::Rect(static_cast<int>(std::lround(c.pixel.x())) - half,
+                                     static_cast<int>(std::lround(c.pixel.y())) - half, 2 * half, 2 * half) &
+                            cv::Rect(cv::Point(0, 0), image);
+    if (!around.empty()) plan.rects.push_back(around);
+  }
   const std::vector<cv::Rect> bands = entryBands(image, params_.entry_band_px);
   plan.rects.insert(plan.rects.end(), bands.begin(), bands.end());
   const int stripes = params_.global_search.period_frames;

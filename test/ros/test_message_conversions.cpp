@@ -64,6 +64,7 @@ TEST(DetectionConversions, CameraDetectionsRoundTripIncludingTeamOnlyRobots) {
   ball.y = 0.003;
   ball.confidence = 0.75;
   d.balls = {ball};
+  d.rejected_robots = {{412.25, 301.5, RejectionCause::Id}, {90.0, 700.75, RejectionCause::Unpaired}};
 
   std_msgs::Header header;
   header.stamp.fromSec(d.stamp);
@@ -93,6 +94,16 @@ TEST(DetectionConversions, CameraDetectionsRoundTripIncludingTeamOnlyRobots) {
   ASSERT_EQ(back.balls.size(), 1u);
   EXPECT_DOUBLE_EQ(back.balls[0].x, 0.12);
   EXPECT_DOUBLE_EQ(back.balls[0].z, 0.0215);
+  // The rejected robot candidates, for the tracker's search windows: place and cause.
+  ASSERT_EQ(msg.rejected_robots.size(), 2u);
+  EXPECT_EQ(msg.rejected_robots[0].cause, "id");
+  ASSERT_EQ(back.rejected_robots.size(), 2u);
+  EXPECT_DOUBLE_EQ(back.rejected_robots[0].u, 412.25);
+  EXPECT_DOUBLE_EQ(back.rejected_robots[1].v, 700.75);
+  EXPECT_EQ(back.rejected_robots[0].cause, RejectionCause::Id);
+  EXPECT_EQ(back.rejected_robots[1].cause, RejectionCause::Unpaired);
+  msg.rejected_robots[1].cause = "no_such_cause";  // another node's name: left out
+  EXPECT_EQ(fromCameraDetections(msg).rejected_robots.size(), 1u);
 }
 
 // One mapping of teams and ids for every message (detections, tracks, ground truth).

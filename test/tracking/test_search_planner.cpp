@@ -329,3 +329,58 @@ TEST(SearchPlanner, ALostBallIsSearchedForWithTheStreakTableInTheEntryBandsInEve
   EXPECT_GT(windowed, params.global_search.period_frames / 2);
   EXPECT_LT(inward_covered, windowed / 4);  // beyond the band: the stripe's turn only
 }
+
+// A robot candidate identification rejected after finding its markers (the first whole
+// frame saw a robot it could not identify) gets a window in the next candidate_frames
+// frames, longer while it is rejected again; an unpaired team region (a lone fleck, a line's
+// fringe) none; at most max_candidates at a time; a restart forgets them.
+TEST(SearchPlanner, ARejectedRobotCandidateIsLookedAtAgainInTheNextFrames) {
+  const FieldGeometry field;
+  const CameraModel camera = CameraModel::defaultCamera(field, 0);
+  SearchPlannerParams params;
+  params.global_search.period_frames = 0;  // no sweep: the candidate's window alone covers it
+  SearchPlanner planner(params);
+  Tracker tracker;
+  // Away from the robot's window, the entry bands and each other.
+  const Eigen::Vector2d robot = *camera.project({-2.0, 0.0, params.windows.robot_height[0]});
+  const Eigen::Vector2d seen = robot + Eigen::Vector2d(0, -300), fleck = robot + Eigen::Vector2d(0, 300);
+  auto covered = [](const SearchPlan& plan, const Eigen::Vector2d& p) {
+    return std::any_of(plan.rects.begin(), plan.rects.end(), [&](const cv::Rect& r) { return inside(r, p); });
+  };
+  auto frame = [&](int k, const std::vector<RejectedRobotCandidate>& rejected) {
+    const double stamp = kT0 + k / 60.0;
+    planner.observe(tracker.update(robotAt(stamp, -2.0, 0.0)), stamp, k == 0, rejected);
+    return planner.plan(tracker, &camera, stamp);
+  };
+  SearchPlan plan =
+      frame(0, {{seen.x(), seen.y(), RejectionCause::Id}, {fleck.x(), fleck.y(), RejectionCause::Unpaired}});
+  ASSERT_FALSE(plan.global_search);
+  EXPECT_TRUE(covered(plan, seen));
+  EXPECT_FALSE(covered(plan, fleck));
+  const auto window =
+      std::find_if(plan.rects.begin(), plan.rects.end(), [&](const cv::Rect& r) { return inside(r, seen); });
+  EXPECT_EQ(window->size(), cv::Size(params.windows.side_px, params.windows.side_px));
+  for (int k = 1; k < params.candidate_frames; ++k) EXPECT_TRUE(covered(frame(k, {}), seen)) << k;
+  EXPECT_FALSE(covered(frame(params.candidate_frames, {}), seen));
+
+  // Rejected again 20 px on: looked at for another candidate_frames from there.
+  EXPECT_TRUE(covered(frame(20, {{seen.x(), seen.y(), RejectionCause::Gate}}), seen));
+  EXPECT_TRUE(covered(frame(25, {{seen.x() + 20, seen.y(), RejectionCause::Area}}), seen));
+  for (int k = 26; k < 25 + params.candidate_frames; ++k) EXPECT_TRUE(covered(frame(k, {}), seen)) << k;
+  EXPECT_FALSE(covered(frame(25 + params.candidate_frames, {}), seen));
+
+  // Six candidates far apart: four windows.
+  std::vector<RejectedRobotCandidate> six;
+  for (int i = 0; i < 6; ++i) six.push_back({150.0 + 200 * i, fleck.y(), RejectionCause::Incomplete});
+  plan = frame(40, six);
+  int looked_at = 0;
+  for (const RejectedRobotCandidate& c : six) looked_at += covered(plan, {c.u, c.v});
+  EXPECT_EQ(looked_at, params.max_candidates);
+  planner.restart();
+  plan = frame(41, {});
+  EXPECT_TRUE(plan.global_search) << "after a restart the first search is whole";
+  plan = frame(42, {});
+  looked_at = 0;
+  for (const RejectedRobotCandidate& c : six) looked_at += covered(plan, {c.u, c.v});
+  EXPECT_EQ(looked_at, 0);
+}

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -37,6 +39,8 @@ constexpr int kNumRejectionCauses = static_cast<int>(RejectionCause::kCount);
 
 // Stable lower-case names ("area", "ball_area", ...): JSON keys and diagnostics labels.
 const char* rejectionCauseName(RejectionCause cause);
+// The cause of a name as rejectionCauseName writes it; nullopt for an unknown name.
+std::optional<RejectionCause> parseRejectionCause(std::string_view name);
 
 struct RejectionCounts {
   std::array<long, kNumRejectionCauses> counts{};

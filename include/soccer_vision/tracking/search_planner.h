@@ -16,6 +16,7 @@
 #include <opencv2/core.hpp>
 
 #include "soccer_vision/common/camera_model.h"
+#include "soccer_vision/common/detections.h"
 #include "soccer_vision/tracking/global_search_policy.h"
 #include "soccer_vision/tracking/search_windows.h"
 #include "soccer_vision/tracking/tracker.h"
@@ -45,6 +46,16 @@ struct SearchPlannerParams {
   // through a band, or within a sweep, not only once it slows down. Not beyond the lines,
   // where the carpet's edge and what stands outside read as ball mixed with carpet.
   bool lost_ball_sweep_streaks = true;
+  // A robot candidate identification rejected after finding markers around its team region
+  // (a RejectedRobotCandidate with a cause other than projection or unpaired: lookAgainAt)
+  // gets a window of windows.side_px about it in the camera's next candidate_frames frames,
+  // for as long as it is rejected again, at most max_candidates at a time: a robot the
+  // first whole-frame search saw but could not identify is looked at again in the next
+  // frames, not only when the sweep's stripe comes by up to global_search.period_frames
+  // later (held-out seed 9094's rand_bayer_ssl: a robot in the wide-angle corner, rejected
+  // in the first frame, unsearched for 24). 0 = off.
+  int candidate_frames = 10;
+  int max_candidates = 4;
 };
 
 void validate(const SearchPlannerParams& p);  // throws std::invalid_argument
@@ -76,8 +87,10 @@ class SearchPlanner {
   explicit SearchPlanner(const SearchPlannerParams& params = {});
 
   // The tracker has processed (or refused) this camera's frame of `stamp`, which was
-  // searched whole or not (GlobalSearchPolicy::observe).
-  void observe(const TrackerUpdateReport& report, double stamp, bool searched_whole = false);
+  // searched whole or not (GlobalSearchPolicy::observe), and identification rejected these
+  // robot candidates in it.
+  void observe(const TrackerUpdateReport& report, double stamp, bool searched_whole = false,
+               const std::vector<RejectedRobotCandidate>& rejected = {});
   // The plan for the camera's next frame. Without a camera model (not known yet) the frame
   // is searched whole.
   SearchPlan plan(const Tracker& tracker, const CameraModel* camera, double stamp);
@@ -85,6 +98,7 @@ class SearchPlanner {
   void restart() {
     policy_.restart();
     next_stripe_ = 0;
+    candidates_.clear();
   }
 
   // [s] mean interval between processed frames; 1/60 until two frames were seen.
@@ -98,7 +112,16 @@ class SearchPlanner {
   GlobalSearchPolicy policy_;
   double last_stamp_ = 0, interval_ = 0;
   int next_stripe_ = 0;  // of the sweep
+  struct Candidate {
+    Eigen::Vector2d pixel;
+    int frames_left = 0;
+  };
+  std::vector<Candidate> candidates_;  // rejected robot candidates looked at again
 };
+
+// Whether a rejected robot candidate looks like a robot that may be identified in the next
+// frame: its team region had markers around it (not unpaired) on the plane (not projection).
+bool lookAgainAt(const RejectedRobotCandidate& candidate);
 
 // Stripe `index` of `count` of an image (SearchPlannerParams::sweep): rows [index·h/count,
 // (index+1)·h/count) grown by `margin` rows above and below, clipped to the image.
