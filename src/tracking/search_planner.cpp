@@ -126,6 +126,10 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   const cv::Size image(camera->width(), camera->height());
   for (const Candidate& c : candidates_) {
     const int half = params_.windows.side_px / 2;
+    // Not about a point beyond the image (another node's message may say anything).
+    if (!(std::abs(c.pixel.x() - 0.5 * image.width) < half + image.width &&
+          std::abs(c.pixel.y() - 0.5 * image.height) < half + image.height))
+      continue;
     const cv::Rect around = cv::Rect(static_cast<int>(std::lround(c.pixel.x())) - half,
                                      static_cast<int>(std::lround(c.pixel.y())) - half, 2 * half, 2 * half) &
                             cv::Rect(cv::Point(0, 0), image);

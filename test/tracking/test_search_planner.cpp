@@ -383,4 +383,10 @@ TEST(SearchPlanner, ARejectedRobotCandidateIsLookedAtAgainInTheNextFrames) {
   looked_at = 0;
   for (const RejectedRobotCandidate& c : six) looked_at += covered(plan, {c.u, c.v});
   EXPECT_EQ(looked_at, 0);
+  // Far beyond the image, or not a number (another node's message): no window, no crash.
+  plan = frame(43, {{1e30, 5.0, RejectionCause::Id}, {std::nan(""), 5.0, RejectionCause::Id}});
+  ASSERT_FALSE(plan.global_search);
+  EXPECT_EQ(plan.rects.size(),
+            plan.windows.size() +
+                entryBands(cv::Size(camera.width(), camera.height()), params.entry_band_px).size());
 }

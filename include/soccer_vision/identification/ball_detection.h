@@ -58,8 +58,8 @@ struct BallDetectionParams {
   // line_min_length ball diameters (bandShape: its width at most, its length at least), a
   // line's colour fringe or a cable, is no object the ball is part of nor a marker it lies
   // over. Held-out seed 9094's rand_bayer: the sky-blue fringe along the centre circle and
-  // the halfway line of a Bayer mosaic (0.21-0.36 diameters wide, 14-24 long), its box around
-  // the ball rolling across their crossing, lost the ball in 3 frames. No marker is that
+  // the halfway line of a Bayer mosaic (0.21-0.36 diameters wide, 14-24 long), within one
+  // diameter of the ball rolling across their crossing, lost the ball in 3 frames. No marker is that
   // long (the 80 x 30 mm team tag: 2 diameters, 0.65 wide); a strip of a tag the image's
   // edge cuts is thin but short (tuning seed 46: 1.4 long, 0.22 wide, a false ball without
   // the length). line_max_width 0 = off.

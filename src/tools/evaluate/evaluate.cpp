@@ -12,8 +12,8 @@
 //       [--cameras 0[,1]] [--frame-step N] [--window-side R] [--no-windows] [--no-ball-streaks]
 //       [--skip-table2]
 //       [--measurement-offset S[,S1]]
-//       [--sweep] [--results out.jsonl] [--misses m.jsonl] [--trace t.jsonl] [--json report.json] [--plots
-//       DIR]
+//       [--sweep] [--results out.jsonl] [--misses m.jsonl] [--trace t.jsonl]
+//       [--json report.json] [--plots DIR]
 //       [--markdown section.md [--title TEXT]]
 //   rosbag-less:  evaluate --results-only --results results.jsonl (--truth truth.jsonl | --bag FILE)
 //       [--json report.json] [--plots DIR]
