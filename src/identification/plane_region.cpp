@@ -50,12 +50,10 @@ std::optional<PlaneRegion> projectToPlane(const Region& region, const CameraMode
   m << region.mu20, region.mu11, region.mu11, region.mu02;
   out.covariance = *j * m * j->transpose();
   out.area = region.area * std::abs(j->determinant());
-  // Closed-form eigen decomposition of the symmetric 2x2 moment matrix.
   const double a = out.covariance(0, 0), b = out.covariance(0, 1), c = out.covariance(1, 1);
-  const double mean = (a + c) / 2, radius = std::hypot((a - c) / 2, b);
   out.minor_axis_angle = majorAxisAngle(a, b, c) + M_PI / 2;
-  const double lo = std::max(mean - radius, 1e-18), hi = std::max(mean + radius, 1e-18);
-  out.elongation = std::sqrt(hi / lo);
+  const PrincipalDeviations sd = principalDeviations(a, b, c);
+  out.elongation = sd.major > 0 ? sd.elongation() : 1.0;  // a point has no axis
   return out;
 }
 

@@ -125,15 +125,9 @@ SearchPlan SearchPlanner::plan(const Tracker& tracker, const CameraModel* camera
   plan.rects = windowRects(plan.windows);
   const cv::Size image(camera->width(), camera->height());
   for (const Candidate& c : candidates_) {
-    const int half = params_.windows.side_px / 2;
-    // Not about a point beyond the image (another node's message may say anything).
-    if (!(std::abs(c.pixel.x() - 0.5 * image.width) < half + image.width &&
-          std::abs(c.pixel.y() - 0.5 * image.height) < half + image.height))
-      continue;
-    const cv::Rect around = cv::Rect(static_cast<int>(std::lround(c.pixel.x())) - half,
-                                     static_cast<int>(std::lround(c.pixel.y())) - half, 2 * half, 2 * half) &
-                            cv::Rect(cv::Point(0, 0), image);
-    if (!around.empty()) plan.rects.push_back(around);
+    // Beyond the image or not a number (another node's message may say anything): no window.
+    const auto around = squareAbout(c.pixel, 0.5 * params_.windows.side_px, image);
+    if (around) plan.rects.push_back(*around);
   }
   const std::vector<cv::Rect> bands = entryBands(image, params_.entry_band_px);
   plan.rects.insert(plan.rects.end(), bands.begin(), bands.end());

@@ -35,20 +35,28 @@ std::optional<SearchWindow> window(const CameraModel& camera, const Eigen::Vecto
   if (!centre || !centre->allFinite()) return std::nullopt;
   const double half =
       std::min(0.5 * params.side_px + pixelsFor(camera, p, *centre, grow_metres), 0.5 * params.max_side_px);
-  // Pixels whose centres lie in [c - half, c + half): exactly 2 * half wide before clipping.
-  const int x0 = std::max(0, static_cast<int>(std::ceil(centre->x() - half)));
-  const int y0 = std::max(0, static_cast<int>(std::ceil(centre->y() - half)));
-  const int x1 = std::min(camera.width(), static_cast<int>(std::ceil(centre->x() + half)));
-  const int y1 = std::min(camera.height(), static_cast<int>(std::ceil(centre->y() + half)));
-  if (x1 <= x0 || y1 <= y0) return std::nullopt;  // entirely outside the image
+  const auto rect = squareAbout(*centre, half, cv::Size(camera.width(), camera.height()));
+  if (!rect) return std::nullopt;  // entirely outside the image
   SearchWindow w;
-  w.rect = cv::Rect(x0, y0, x1 - x0, y1 - y0);
+  w.rect = *rect;
   w.centre = *centre;
   w.expected = camera.inImage(*centre, params.expected_margin_px);
   return w;
 }
 
 }  // namespace
+
+std::optional<cv::Rect> squareAbout(const Eigen::Vector2d& centre, double half, cv::Size image) {
+  if (!centre.allFinite() || !std::isfinite(half)) return std::nullopt;
+  // Clipped as doubles first: a centre far beyond the image must not overflow an int.
+  const double x0 = std::max(0.0, std::ceil(centre.x() - half));
+  const double y0 = std::max(0.0, std::ceil(centre.y() - half));
+  const double x1 = std::min<double>(image.width, std::ceil(centre.x() + half));
+  const double y1 = std::min<double>(image.height, std::ceil(centre.y() + half));
+  if (x1 <= x0 || y1 <= y0) return std::nullopt;
+  return cv::Rect(static_cast<int>(x0), static_cast<int>(y0), static_cast<int>(x1 - x0),
+                  static_cast<int>(y1 - y0));
+}
 
 void validate(const SearchWindowParams& p) {
   if (p.side_px < 1) throw std::invalid_argument("search windows: side_px must be >= 1");

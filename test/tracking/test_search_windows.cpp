@@ -1,4 +1,5 @@
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -244,4 +245,21 @@ TEST(SearchWindows, CentredAtEachTeamsMarkerPlane) {
     EXPECT_LT((w.centre - *camera.project({-2.25, 2.6, h})).norm(), 1e-9) << teamName(w.team);
   }
   EXPECT_GT((windows[0].centre - windows[1].centre).norm(), 5.0);
+}
+
+TEST(SquareAbout, PixelCentresWithinHalfOfThePointClippedToTheImage) {
+  const cv::Size image(640, 480);
+  // Pixel centres x in [300.3 - 100, 300.3 + 100): 201 .. 400, whatever the fraction.
+  EXPECT_EQ(squareAbout({300.3, 200.7}, 100, image), cv::Rect(201, 101, 200, 200));
+  EXPECT_EQ(squareAbout({300.5, 200.5}, 100, image), cv::Rect(201, 101, 200, 200));
+  EXPECT_EQ(squareAbout({300.0, 200.0}, 100, image), cv::Rect(200, 100, 200, 200));
+  EXPECT_EQ(squareAbout({10, 470}, 100, image), cv::Rect(0, 370, 110, 110));
+  EXPECT_EQ(squareAbout({-99.5, 240}, 100, image), cv::Rect(0, 140, 1, 200));
+  EXPECT_FALSE(squareAbout({-100, 240}, 100, image));  // [-200, 0): no pixel of the image
+  EXPECT_FALSE(squareAbout({740, 240}, 100, image));
+  // Far beyond the image or not a number: none, and no integer overflow on the way.
+  EXPECT_FALSE(squareAbout({1e30, 240}, 100, image));
+  EXPECT_FALSE(squareAbout({-1e30, -1e30}, 100, image));
+  EXPECT_FALSE(squareAbout({std::nan(""), 240}, 100, image));
+  EXPECT_FALSE(squareAbout({320, 240}, std::numeric_limits<double>::infinity(), image));
 }

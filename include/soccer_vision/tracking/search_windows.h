@@ -10,6 +10,7 @@
 // at max_side_px, clipped to the image, and dropped when nothing of it is in the image.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -56,6 +57,11 @@ struct SearchWindow {
 // (frame_step / fps), for the ball speed margin.
 std::vector<SearchWindow> searchWindows(const TrackerOutput& predicted, const CameraModel& camera,
                                         double frame_interval, const SearchWindowParams& params = {});
+
+// The pixels whose centres lie in [c - half, c + half) in x and y (a square 2 * half wide),
+// clipped to the image; none when nothing of it is in the image or `centre` is not finite.
+// Every window about a pixel (a track's prediction, a rejected candidate) is this square.
+std::optional<cv::Rect> squareAbout(const Eigen::Vector2d& centre, double half, cv::Size image);
 
 // The rectangles alone, as the Segmenter takes them.
 std::vector<cv::Rect> windowRects(const std::vector<SearchWindow>& windows);
