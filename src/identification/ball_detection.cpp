@@ -137,8 +137,12 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
   for (std::size_t i = 0; i < fragments.size(); ++i) {
     if (root(static_cast<int>(i)) != static_cast<int>(i)) continue;
     parts.clear();
+    double widest = 0;  // [px] band width of the widest fragment
     for (std::size_t j = 0; j < fragments.size(); ++j) {
-      if (root(static_cast<int>(j)) == static_cast<int>(i)) parts.push_back(fragments[j].region);
+      if (root(static_cast<int>(j)) != static_cast<int>(i)) continue;
+      const Region& part = *fragments[j].region;
+      parts.push_back(&part);
+      widest = std::max(widest, bandShape(part).width);
     }
     const Region ball = regionUnion(parts);
     const Eigen::Vector2d pixel(ball.cx, ball.cy);
@@ -173,9 +177,12 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
       rejected.add(RejectionCause::BallOnBlob);
       continue;
     }
+    // The cluster as a whole, and its widest piece as a band: a ball, half hidden or not,
+    // and the ends of a streak cut at its faint middle are at least half discs (0.40); a
+    // colour fringe one mosaic quad thin is not, alone or meeting another at a corner.
     const double width_ratio = 4 * sd.minor / diameter;
     if (width_ratio < params_.width_ratio_min || width_ratio > params_.width_ratio_max ||
-        sd.major > params_.max_elongation * sd.minor) {
+        widest < params_.min_piece_width * diameter || sd.major > params_.max_elongation * sd.minor) {
       rejected.add(RejectionCause::BallShape);
       continue;
     }

@@ -970,6 +970,46 @@ TEST(BallDetection, ABallOnALinesColourFringeIsABall) {
   EXPECT_EQ(rejected[RejectionCause::BallOnBlob], 1) << rejected.summary();
 }
 
+// Two thin orange pieces meeting at a corner (held-out seed 9098's rand_bayer_ssl: the
+// colour fringes, one mosaic quad thin, of two dim field lines at the field's corner, in 53
+// frames the primary ball while the real one was out of view) lie within the merge distance
+// and together pass for a ball's area and width; no piece of them is a ball's piece. The two
+// halves of a streak cut at its faint middle are, and stay one ball.
+TEST(BallDetection, ThinPiecesMeetingAtACornerAreNoBall) {
+  const Eigen::Vector3d ball(-1.2, -0.8, 0.0215);  // in camera 0's view
+  const Region ball_region = ballRegion(kCamera, ball);
+  const Eigen::Vector2d at(ball_region.cx, ball_region.cy);
+  const double d = 2 * std::sqrt(ball_region.area / M_PI);  // projected diameter [px]
+  // An L: bars 2 px thick and 0.9 diameters long along x and along y from a shared corner.
+  const Eigen::Vector2d corner = at - Eigen::Vector2d(0.3 * d, 0.3 * d);
+  auto bar = [&](const Eigen::Vector2d& along) {
+    const Eigen::Vector2d across(-along.y(), along.x());
+    return test::rasterise(
+        ColorClass::Orange, corner, static_cast<int>(d) + 4, [&](const Eigen::Vector2d& p) {
+          const double s = (p - corner).dot(along), t = (p - corner).dot(across);
+          return s >= 0 && s <= 0.9 * d && std::abs(t - (along.x() > 0 ? 1.0 : -1.0)) <= 1.0;
+        });
+  };
+  const std::vector<Region> fringes = {bar({1, 0}), bar({0, 1})};
+  BallDetectionParams off;
+  off.min_piece_width = 0;
+  const BallDetector detector(kCamera, kField), old_rule(kCamera, kField, off);
+  ASSERT_EQ(old_rule.detect(fringes).size(), 1u) << "together they pass for a ball";
+  RejectionCounts rejected;
+  EXPECT_TRUE(detector.detect(fringes, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallShape], 1) << rejected.summary();
+  // A streak 1.6 diameters long, its middle 0.6 diameters not segmented: two half discs.
+  auto half = [&](double side) {
+    const Eigen::Vector2d c = at + Eigen::Vector2d(side * 0.3 * d, 0);
+    return test::rasterise(ColorClass::Orange, c, static_cast<int>(d), [&](const Eigen::Vector2d& p) {
+      return (p - c).norm() <= d / 2 && side * (p.x() - c.x()) >= 0;
+    });
+  };
+  const auto balls = detector.detect({half(-1), half(1)});
+  ASSERT_EQ(balls.size(), 1u);
+  EXPECT_LT((balls[0].pixel - at).norm(), 0.5);
+}
+
 // A blurred orange ball on the green carpet mixes into a yellow's hue at its edge; with a
 // yellow print of that hue in the table the edge is a yellow ring around the orange, larger
 // than it (held-out seed 9039: the ball lost in 18 frames). The ring is the ball's own rim,

@@ -41,6 +41,12 @@ struct BallDetectionParams {
   // diameter (a disc: 1; a half-hidden ball: 0.53).
   double width_ratio_min = 0.4;
   double width_ratio_max = 1.7;
+  // The widest region of a cluster as a band (bandShape's width) / the projected diameter:
+  // a ball is a disc (0.64), half hidden or a cut streak's end a half disc (0.40); a colour
+  // fringe one mosaic quad thin (0.15-0.19 on held-out seed 9098's rand_bayer_ssl, 4 x its
+  // moments' minor std-dev inflated to 0.43-0.46 by the sites' spread) is none, alone or
+  // meeting another at a field corner, together a ball's area and width. 0 = off.
+  double min_piece_width = 0.25;
   double max_elongation = 5.0;       // major / minor std-dev (a 15 m/s ball over 6 ms: 2.6)
   double outside_play_weight = 0.5;  // confidence factor beyond the lines (orders candidates)
   // A cluster whose centre lies within this fraction of an identified robot's top radius
