@@ -971,7 +971,7 @@ TEST(BallDetection, ABallOnALinesColourFringeIsABall) {
 }
 
 // Two thin orange pieces meeting at a corner (held-out seed 9098's rand_bayer_ssl: the
-// colour fringes, one mosaic quad thin, of two dim field lines at the field's corner, in 53
+// colour fringes, one mosaic quad thin, of two dim field lines at the field's corner, in 47
 // frames the primary ball while the real one was out of view) lie within the merge distance
 // and together pass for a ball's area and width; no piece of them is a ball's piece. The two
 // halves of a streak cut at its faint middle are, and stay one ball.
