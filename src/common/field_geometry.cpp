@@ -57,6 +57,13 @@ void checkKeys(const YAML::Node& map, const std::set<std::string>& allowed, cons
 
 }  // namespace
 
+double LineSegment::distance(const Eigen::Vector2d& p) const {
+  const Eigen::Vector2d d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * d - p).norm();
+}
+
 bool CircleArc::fullCircle() const { return a2 - a1 >= kTwoPi - 1e-12; }
 
 double CircleArc::distance(const Eigen::Vector2d& p) const {
@@ -147,6 +154,19 @@ std::vector<Eigen::Vector3d> FieldGeometry::landmarks() const {
     p.emplace_back(centre_radius, 0, 0);
   }
   return p;
+}
+
+double FieldGeometry::distanceToMarkings(const Eigen::Vector2d& p) const {
+  double d = HUGE_VAL;
+  for (const LineSegment& s : lines()) d = std::min(d, s.distance(p));
+  for (const CircleArc& c : circles()) d = std::min(d, c.distance(p));
+  return d;
+}
+
+double FieldGeometry::distanceToCarpetEdge(const Eigen::Vector2d& p) const {
+  const double dx = std::abs(p.x()) - carpetHalfLength(), dy = std::abs(p.y()) - carpetHalfWidth();
+  if (dx <= 0 && dy <= 0) return std::min(-dx, -dy);
+  return std::hypot(std::max(dx, 0.0), std::max(dy, 0.0));
 }
 
 bool FieldGeometry::onCarpet(double x, double y, double margin) const {

@@ -32,6 +32,8 @@ const char* rejectionCauseName(RejectionCause cause) {
       return "ball_shape";
     case RejectionCause::BallOnBlob:
       return "ball_on_blob";
+    case RejectionCause::BallOnLine:
+      return "ball_on_line";
     case RejectionCause::BallConfidence:
       return "ball_confidence";
     case RejectionCause::BallSurplus:

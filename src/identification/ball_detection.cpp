@@ -86,6 +86,15 @@ bool BallDetector::onLargeBlob(const std::vector<Region>& regions, const Cluster
   return false;
 }
 
+bool BallDetector::onPaintedEdge(const Eigen::Vector2d& pixel, double diameter) const {
+  const auto floor = camera_.pixelToField(pixel, 0.0);
+  if (!floor || !floor->allFinite()) return false;
+  const Eigen::Vector2d p = floor->head<2>();
+  const double reach = params_.fringe_distance * 2 * params_.radius / diameter;  // [m]
+  return field_.distanceToMarkings(p) <= field_.line_width / 2 + reach ||
+         field_.distanceToCarpetEdge(p) <= reach;
+}
+
 bool BallDetector::onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const {
   for (const ImageDisc& top : tops) {
     if ((pixel - top.centre).norm() < params_.robot_top_fraction * top.radius) return true;
@@ -184,6 +193,10 @@ std::vector<BallDetection> BallDetector::detect(const std::vector<Region>& regio
     if (width_ratio < params_.width_ratio_min || width_ratio > params_.width_ratio_max ||
         widest < params_.min_piece_width * diameter || sd.major > params_.max_elongation * sd.minor) {
       rejected.add(RejectionCause::BallShape);
+      continue;
+    }
+    if (widest < params_.fringe_max_width * diameter && onPaintedEdge(pixel, diameter)) {
+      rejected.add(RejectionCause::BallOnLine);
       continue;
     }
     const double l = std::log(ratio) / params_.area_sigma;

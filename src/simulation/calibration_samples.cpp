@@ -107,19 +107,6 @@ std::vector<Eigen::Vector3d> square(double cx, double cy, double half, double z)
           {cx - half, cy + half, z}};
 }
 
-double distanceToSegment(const Eigen::Vector2d& p, const LineSegment& s) {
-  const Eigen::Vector2d d = s.b - s.a;
-  const double t = std::clamp((p - s.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (s.a + t * d - p).norm();
-}
-
-double distanceToLines(const Eigen::Vector2d& p, const FieldGeometry& field) {
-  double d = std::numeric_limits<double>::infinity();
-  for (const auto& s : field.lines()) d = std::min(d, distanceToSegment(p, s));
-  for (const auto& c : field.circles()) d = std::min(d, c.distance(p));
-  return d;
-}
-
 }  // namespace
 
 ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& camera,
@@ -203,7 +190,7 @@ ColorSamples calibrationSamples(const SceneState& scene, const CameraModel& came
        x += 0.83) {
     for (double y = -field.halfWidth() + 0.4; y < field.halfWidth() && carpet < options.carpet_patches;
          y += 0.97) {
-      bool clear = distanceToLines({x, y}, field) > half + 0.05;
+      bool clear = field.distanceToMarkings({x, y}) > half + 0.05;
       for (const auto& r : scene.robots) clear = clear && std::hypot(r.x - x, r.y - y) > keep_out;
       for (const auto& b : scene.balls) clear = clear && std::hypot(b.x - x, b.y - y) > keep_out;
       if (clear && projector.project(square(x, y, half, 0.0), poly)) {

@@ -76,6 +76,20 @@ TEST(FieldGeometry, DivisionBMarkingsAndLandmarks) {
   EXPECT_FALSE(f.inPlayingArea(4.6, 0));
 }
 
+TEST(FieldGeometry, DistancesToTheMarkingsAndTheCarpetEdge) {
+  const FieldGeometry f = FieldGeometry::divB();
+  EXPECT_NEAR(f.distanceToMarkings({-1.2, -2.96}), 0.04, 1e-12);  // the touch line
+  EXPECT_NEAR(f.distanceToMarkings({-4.6, -3.1}), std::hypot(0.1, 0.1), 1e-12) << "beyond the corner";
+  EXPECT_NEAR(f.distanceToMarkings({0.0, 0.52}), 0.0, 1e-12) << "the halfway line";
+  EXPECT_NEAR(f.distanceToMarkings({0.3, 0.42}), std::hypot(0.3, 0.42) - 0.5, 1e-12) << "the centre circle";
+  EXPECT_NEAR(f.distanceToMarkings({-4.0, 0.0}), 0.5, 1e-12) << "the penalty stretch, the goal line";
+  EXPECT_NEAR(f.distanceToCarpetEdge({-4.75, 0.0}), 0.05, 1e-12);
+  EXPECT_NEAR(f.distanceToCarpetEdge({0.0, 3.4}), 0.1, 1e-12) << "beyond it";
+  EXPECT_NEAR(f.distanceToCarpetEdge({4.9, -3.4}), std::hypot(0.1, 0.1), 1e-12) << "beyond the corner";
+  const LineSegment point{{1, 1}, {1, 1}, "point"};
+  EXPECT_NEAR(point.distance({1, 2}), 1.0, 1e-12);
+}
+
 TEST(FieldGeometry, DivisionAIsTwelveByNineWithACentreLine) {
   const FieldGeometry f = FieldGeometry::divA();
   EXPECT_DOUBLE_EQ(f.halfLength(), 6.0);

@@ -15,6 +15,7 @@
 #include "soccer_vision/identification/frame_identification.h"
 #include "soccer_vision/identification/image_footprint.h"
 #include "soccer_vision/identification/rigid_fit_2d.h"
+#include "soccer_vision/segmentation/region_moments.h"
 #include "soccer_vision/simulation/scene.h"
 
 using namespace soccer_vision;
@@ -1008,6 +1009,42 @@ TEST(BallDetection, ThinPiecesMeetingAtACornerAreNoBall) {
   const auto balls = detector.detect({half(-1), half(1)});
   ASSERT_EQ(balls.size(), 1u);
   EXPECT_LT((balls[0].pixel - at).norm(), 0.5);
+}
+
+// A thin orange cluster on a painted line is that line's colour fringe (held-out seed 9098's
+// rand_bayer_ssl: an L of fringe where two dim lines meet, 0.26-0.29 diameters wide as a
+// band, the ball in 5 frames while the real one was out of view). The same L away from the
+// lines, and a ball lying on the line, are balls.
+TEST(BallDetection, AThinClusterOnAPaintedLineIsItsFringe) {
+  const Eigen::Vector3d touch_line(-1.2, -3.0, 0.0), inside(-1.2, -2.7, 0.0);  // in camera 0's view
+  const double d = 2 * std::sqrt(ballRegion(kCamera, touch_line + Eigen::Vector3d(0, 0, 0.0215)).area / M_PI);
+  // An L with arms 0.9 diameters long and 0.27 thick, its centroid where `floor` projects.
+  const double a = 0.9 * d, t = 0.27 * d;
+  const double g = (a * t * (a + t) / 2 - t * t * t / 2) / (2 * a * t - t * t);  // centroid from the corner
+  auto l_at = [&](const Eigen::Vector3d& floor) {
+    const Eigen::Vector2d corner = *kCamera.project(floor) - Eigen::Vector2d(g, g);
+    return test::rasterise(ColorClass::Orange, corner + Eigen::Vector2d(a, a) / 2, static_cast<int>(d) + 2,
+                           [&](const Eigen::Vector2d& p) {
+                             const Eigen::Vector2d q = p - corner;
+                             return q.x() >= 0 && q.y() >= 0 &&
+                                    ((q.x() <= a && q.y() <= t) || (q.x() <= t && q.y() <= a));
+                           });
+  };
+  const Region fringe = l_at(touch_line);
+  const double band = bandShape(fringe).width / d;
+  ASSERT_GT(band, 0.25) << "wide enough for min_piece_width";
+  ASSERT_LT(band, 0.35);
+  BallDetectionParams off;
+  off.fringe_max_width = 0;
+  const BallDetector detector(kCamera, kField), old_rule(kCamera, kField, off);
+  ASSERT_EQ(old_rule.detect({fringe}).size(), 1u) << "it passes for a ball";
+  RejectionCounts rejected;
+  EXPECT_TRUE(detector.detect({fringe}, {}, &rejected).empty());
+  EXPECT_EQ(rejected[RejectionCause::BallOnLine], 1) << rejected.summary();
+  EXPECT_EQ(detector.detect({l_at(inside)}).size(), 1u) << "off the lines";
+  const auto on_line = detector.detect({ballRegion(kCamera, touch_line + Eigen::Vector3d(0, 0, 0.0215))});
+  ASSERT_EQ(on_line.size(), 1u) << "a ball on the line";
+  EXPECT_NEAR(on_line[0].y, -3.0, 0.01);
 }
 
 // A blurred orange ball on the green carpet mixes into a yellow's hue at its edge; with a

@@ -18,6 +18,9 @@ namespace soccer_vision {
 struct LineSegment {
   Eigen::Vector2d a, b;
   std::string name;
+
+  // Distance of p from the segment (from a when it has no length).
+  double distance(const Eigen::Vector2d& p) const;
 };
 
 // A painted circle or arc, counter-clockwise from angle a1 to a2 [rad] (a full circle: 0, 2 pi).
@@ -66,6 +69,10 @@ struct FieldGeometry {
   // Line intersections and other well-defined points on the carpet (z = 0),
   // used for field calibration (field_points.yaml).
   std::vector<Eigen::Vector3d> landmarks() const;
+  // Distance of p from the nearest painted line's or arc's centre line.
+  double distanceToMarkings(const Eigen::Vector2d& p) const;
+  // Distance of p from the carpet's outer edge, where its walls stand (inside or out).
+  double distanceToCarpetEdge(const Eigen::Vector2d& p) const;
   // True when (x, y) is on the carpet: playing area plus boundary (plus margin).
   bool onCarpet(double x, double y, double margin = 0.0) const;
   // True when (x, y) is inside the playing area (within the outer edge of the lines, plus margin).

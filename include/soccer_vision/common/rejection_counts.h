@@ -30,6 +30,7 @@ enum class RejectionCause {
   BallShape,       // ball width outside [width_ratio_min, width_ratio_max] x expected, or longer than
                    // max_elongation
   BallOnBlob,      // ball cluster beside a blob of a marker colour many balls large: part of a shoe
+  BallOnLine,      // thin ball cluster on a painted line or the carpet's edge: its colour fringe
   BallConfidence,  // ball confidence below min_confidence
   BallSurplus,     // a plausible ball beyond max_candidates
   kCount

