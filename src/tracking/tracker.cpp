@@ -65,6 +65,8 @@ void validate(const TrackerParams& p) {
   unit(p.outside_min_confidence, "outside_min_confidence");
   unit(p.ball_kick_min_confidence, "ball_kick_min_confidence");
   unit(p.ball_min_start_confidence, "ball_min_start_confidence");
+  if (!(p.outside_sure_speed >= 0) || !std::isfinite(p.outside_sure_speed))
+    throw std::invalid_argument("tracker: outside_sure_speed must be >= 0 (0 = off)");
   auto offset = [](double v, const std::string& name) {
     if (!(std::abs(v) <= 0.1)) {
       throw std::invalid_argument("tracker: " + name + " must be within [-0.1, 0.1] s (got " +
@@ -493,7 +495,10 @@ double Tracker::rateAt(const BallTrack& t, double now) const {
 }
 
 bool Tracker::unsureOutside(const BallTrack& t, double x, double y) const {
-  return t.confidence < p_.outside_min_confidence && p_.field && !p_.field->inPlayingArea(x, y);
+  if (t.confidence >= p_.outside_min_confidence || !p_.field || p_.field->inPlayingArea(x, y)) return false;
+  const bool rolling = p_.outside_sure_speed > 0 && t.travel > p_.ball_still_distance &&
+                       t.filter.state().tail<2>().norm() >= p_.outside_sure_speed;
+  return !rolling;
 }
 
 int Tracker::standing(const BallTrack& t) const {

