@@ -739,7 +739,7 @@ TEST(Tracker, AnUnsureBallOutsideThePlayingAreaIsWithheld) {
 }
 
 // ... unless it rolls: held-out seed 9101's rand_fast had the ball at 11.4 m/s along the
-// touch line, its streak's candidates at 0.20-0.33, withheld in 11 frames. A jittering fleck
+// touch line, its streak's candidates at 0.20-0.33, withheld in 12 frames. A jittering fleck
 // by the lines (a few centimetres each frame) stays unsure.
 TEST(Tracker, ABallRollingFastOutsideThePlayingAreaIsOutputThoughUnsure) {
   TrackerParams params;

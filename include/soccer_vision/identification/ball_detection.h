@@ -54,7 +54,7 @@ struct BallDetectionParams {
   // edge's colour fringe: a Bayer quad across it reads R from one side and B from the other.
   // Held-out seed 9098's rand_bayer_ssl: dim lines, an L of fringe where two lines meet
   // (0.26-0.29 wide, 24-28 px) was the ball in 5 frames while the real one was out of view,
-  // one at the carpet's corner (0.27) in another. A ball on a line is a disc (0.44 and
+  // pieces at the carpet's edge (0.26-0.27) in 2 more. A ball on a line is a disc (0.44 and
   // wider on the 7261 ball candidates of 51 recordings but for a glossy ball's ring);
   // fringe_max_width 0 = off.
   double fringe_max_width = 0.35;

@@ -129,7 +129,7 @@ struct TrackerParams {
   // its start and whose filtered speed is at least this is output outside the playing area
   // however unsure its candidates. Nothing that stands by the lines moves that fast, and a
   // fast ball's streak is larger than the disc its confidence expects (held-out seed 9101's
-  // rand_fast: a ball at 11.4 m/s along the touch line, candidates 0.20-0.33, withheld in 11
+  // rand_fast: a ball at 11.4 m/s along the touch line, candidates 0.20-0.33, withheld in 12
   // frames, ball detection 84.8 %). 0 = off.
   double outside_sure_speed = 4.0;
   // [s] when, after a frame's capture stamp, its detections were measured: exposure / 2 for
